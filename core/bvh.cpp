@@ -1,0 +1,152 @@
+#include "bvh.h"
+
+#include <algorithm>
+#include <array>
+#include <numeric>
+
+namespace whitted {
+
+namespace {
+
+float roundDown(double x) {
+  float f = static_cast<float>(x);
+  if (double(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return f;
+}
+float roundUp(double x) {
+  float f = static_cast<float>(x);
+  if (double(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  return f;
+}
+
+struct Builder {
+  const std::vector<Bounds3>& boxes;
+  const std::vector<Vec3>& centroids;
+  const BvhBuildOptions& opt;
+  std::vector<BvhNode>& nodes;
+  std::vector<uint32_t>& idx;
+  int maxDepth = 0;
+
+  void setBounds(BvhNode& n, const Bounds3& b) {
+    for (int i = 0; i < 3; ++i) {
+      n.lo[i] = roundDown(b.lo[i]);
+      n.hi[i] = roundUp(b.hi[i]);
+    }
+  }
+
+  void makeLeaf(uint32_t node, uint32_t begin, uint32_t end) {
+    nodes[node].first = begin;
+    nodes[node].count = end - begin;
+  }
+
+  // Recursively splits idx[begin, end) into the subtree rooted at node.
+  void split(uint32_t node, uint32_t begin, uint32_t end, int depth) {
+    maxDepth = std::max(maxDepth, depth);
+    Bounds3 box, cbox;
+    for (uint32_t i = begin; i < end; ++i) {
+      box.extend(boxes[idx[i]]);
+      cbox.extend(centroids[idx[i]]);
+    }
+    setBounds(nodes[node], box);
+    uint32_t count = end - begin;
+    if (count <= 1) return makeLeaf(node, begin, end);
+
+    // Binned SAH over all three axes
+    const int nb = std::max(2, opt.bins);
+    int bestAxis = -1, bestBin = 0;
+    double bestCost = kInfinity;
+    Vec3 cext = cbox.extent();
+    if (depth < Bvh::kSahDepthLimit) {
+      for (int axis = 0; axis < 3; ++axis) {
+        if (!(cext[axis] > 0.0)) continue;
+        std::vector<Bounds3> binBox(nb);
+        std::vector<uint32_t> binCount(nb, 0);
+        double scale = nb / cext[axis];
+        for (uint32_t i = begin; i < end; ++i) {
+          int b = std::min(nb - 1, int((centroids[idx[i]][axis] - cbox.lo[axis]) * scale));
+          binBox[b].extend(boxes[idx[i]]);
+          ++binCount[b];
+        }
+        // Sweep from the right, then from the left
+        std::vector<double> rightCost(nb, 0.0);
+        Bounds3 acc;
+        uint32_t n = 0;
+        for (int b = nb - 1; b > 0; --b) {
+          acc.extend(binBox[b]);
+          n += binCount[b];
+          rightCost[b] = n ? acc.halfArea() * n : 0.0;
+        }
+        acc = Bounds3();
+        n = 0;
+        for (int b = 0; b < nb - 1; ++b) {
+          acc.extend(binBox[b]);
+          n += binCount[b];
+          if (n == 0 || n == count) continue;
+          double cost = acc.halfArea() * n + rightCost[b + 1];
+          if (cost < bestCost) {
+            bestCost = cost;
+            bestAxis = axis;
+            bestBin = b;
+          }
+        }
+      }
+    }
+
+    double parentArea = box.halfArea();
+    double leafCost = double(count);
+    double splitCost = bestAxis >= 0 && parentArea > 0.0 ? opt.traversalCost + bestCost / parentArea : kInfinity;
+    uint32_t mid;
+    if (bestAxis >= 0 && (splitCost < leafCost || count > uint32_t(opt.maxLeafSize))) {
+      double scale = nb / cext[bestAxis];
+      auto it = std::partition(idx.begin() + begin, idx.begin() + end, [&](uint32_t p) {
+        int b = std::min(nb - 1, int((centroids[p][bestAxis] - cbox.lo[bestAxis]) * scale));
+        return b <= bestBin;
+      });
+      mid = uint32_t(it - idx.begin());
+    } else if (count <= uint32_t(opt.maxLeafSize)) {
+      return makeLeaf(node, begin, end);
+    } else {
+      // No SAH split (coincident centroids or depth limit): median split on the widest centroid axis
+      int axis = cext.x >= cext.y ? (cext.x >= cext.z ? 0 : 2) : (cext.y >= cext.z ? 1 : 2);
+      mid = begin + count / 2;
+      std::nth_element(idx.begin() + begin, idx.begin() + mid, idx.begin() + end,
+                       [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+    }
+    if (mid == begin || mid == end) mid = begin + count / 2;
+
+    uint32_t left = uint32_t(nodes.size());
+    nodes.push_back({});
+    nodes.push_back({});
+    nodes[node].first = left;
+    nodes[node].count = 0;
+    split(left, begin, mid, depth + 1);
+    split(left + 1, mid, end, depth + 1);
+  }
+};
+
+}  // namespace
+
+void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids, const BvhBuildOptions& opt) {
+  nodes_.clear();
+  primIndices_.clear();
+  depth_ = 0;
+  if (boxes.empty()) return;
+  primIndices_.resize(boxes.size());
+  std::iota(primIndices_.begin(), primIndices_.end(), 0u);
+  nodes_.reserve(2 * boxes.size());
+  nodes_.push_back({});
+  Builder b{boxes, centroids, opt, nodes_, primIndices_};
+  b.split(0, 0, uint32_t(boxes.size()), 1);
+  depth_ = b.maxDepth;
+  nodes_.shrink_to_fit();
+}
+
+Bounds3 Bvh::bounds() const {
+  Bounds3 b;
+  if (nodes_.empty()) return b;
+  b.lo = Vec3(nodes_[0].lo[0], nodes_[0].lo[1], nodes_[0].lo[2]);
+  b.hi = Vec3(nodes_[0].hi[0], nodes_[0].hi[1], nodes_[0].hi[2]);
+  return b;
+}
+
+}  // namespace whitted

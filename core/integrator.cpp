@@ -1,0 +1,222 @@
+#include "integrator.h"
+
+#include <algorithm>
+
+namespace whitted {
+
+RayStats& RayStats::operator+=(const RayStats& o) {
+  primary += o.primary;
+  shadow += o.shadow;
+  reflection += o.reflection;
+  refraction += o.refraction;
+  savedByThreshold += o.savedByThreshold;
+  savedByDepth += o.savedByDepth;
+  nodesVisited += o.nodesVisited;
+  return *this;
+}
+
+Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings, const Vec3& cameraUp)
+    : scene_(scene), s_(settings), up_(cameraUp) {
+  s_.maxDepth = std::max(0, s_.maxDepth);
+  if (!(s_.contributionThreshold >= 0.0f)) s_.contributionThreshold = 0.0f;
+  const Features& f = scene.features();
+  // Leave out what the scene cannot use: each flag removes a whole mechanism from the compiled kernel
+  refract_ = f.transmissive && s_.maxDepth > 0;
+  reflect_ = s_.reflections && s_.maxDepth > 0 && (f.reflective || (f.transmissive && s_.refractions));
+  shadows_ = s_.shadows && f.shadowLights;
+  static constexpr Kernel table[8] = {
+      &Integrator::radiance<false, false, false>, &Integrator::radiance<false, false, true>,
+      &Integrator::radiance<false, true, false>,  &Integrator::radiance<false, true, true>,
+      &Integrator::radiance<true, false, false>,  &Integrator::radiance<true, false, true>,
+      &Integrator::radiance<true, true, false>,   &Integrator::radiance<true, true, true>};
+  kernel_ = table[(reflect_ ? 4 : 0) | (refract_ ? 2 : 0) | (shadows_ ? 1 : 0)];
+}
+
+Sample Integrator::trace(const Ray& ray, RayStats& stats) const {
+  Sample out;
+  ++stats.primary;
+  double tHit = kInfinity;
+  Vec3 first(0.0);
+  float err = 0.0f;
+  out.color = (this->*kernel_)(ray, 0, Color(1.0f), stats, err, &tHit, &first);
+  out.hit = std::isfinite(tHit);
+  out.alpha = out.hit ? 1.0f : scene_.backgroundAlpha;
+  out.firstHit = first;
+  out.errorBound = err;
+  // Never let a non-finite value reach a pixel
+  for (int i = 0; i < 3; ++i)
+    if (!std::isfinite(out.color[i])) out.color[i] = 0.0f;
+  return out;
+}
+
+float Integrator::remainingBound(int depth) const {
+  // Radiance a ray launched at this depth could still return: local bound times the geometric series of the
+  // largest secondary weight over the levels the reference could still trace
+  float L = scene_.localRadianceBound();
+  float k = scene_.maxSecondaryWeight();
+  (void)depth;
+  if (k < 0.999f) return L / (1.0f - k);
+  return L * 64.0f;  // effectively unbounded; callers clamp the per-pixel estimate
+}
+
+template <bool Shadows>
+Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Vec3& n, const Vec3& v, bool inside,
+                             RayStats& st) const {
+  // Colours as VTK's shader forms them (ambient = Ka*Ca, diffuse = Kd*Cd, specular = Ks*Cs)
+  Color ca = m.ambientColor, cd = m.diffuseColor;
+  if (sp.hasColor && m.colorSource != ColorSource::Material) {
+    Color c(sp.color);
+    if (m.colorSource != ColorSource::ScalarsDiffuse) ca = c;
+    if (m.colorSource != ColorSource::ScalarsAmbient) cd = c;
+  }
+  Color amb = m.ambient * ca, dif = m.diffuse * cd, spe = m.specular * m.specularColor;
+  if (!m.lighting) return amb + dif;
+  if (inside) amb *= m.transmittance;  // ambient light reaches the inside only through the surface
+
+  Color diffuse(0.0f), specular(0.0f);
+  for (const Light& light : scene_.lights()) {
+    LightSample ls = sampleLight(light, sp.p);
+    double att = ls.attenuation;
+    double df = std::max(0.0, att * glm::dot(n, ls.toLight));
+    if (!(df > 0.0)) continue;  // VTK: specular only where df > 0
+    Color lc = light.color * light.intensity;
+
+    if constexpr (Shadows) {
+      if (light.castShadows) {
+        Ray sr;
+        sr.origin = offsetRayOrigin(sp.p, sp.pError, sp.ng, ls.toLight);
+        sr.dir = ls.toLight;
+        sr.tMin = 0.0;
+        // Stop just short of a point light (the light itself is not geometry)
+        sr.tMax = std::isfinite(ls.distance) ? glm::length(light.position - sr.origin) * (1.0 - 1e-9) : kInfinity;
+        ++st.shadow;
+        Color t = scene_.transmittance(sr, s_.contributionThreshold, &st.nodesVisited);
+        if (maxComponent(t) <= 0.0f) continue;
+        lc *= t;
+      }
+    }
+
+    double sf;
+    if (s_.headlightShading) {
+      sf = std::pow(df, double(m.specularPower));
+    } else {
+      Vec3 ld = -ls.toLight;
+      Vec3 r = ld - 2.0 * glm::dot(n, ld) * n;
+      sf = att * std::pow(std::max(0.0, glm::dot(r, v)), double(m.specularPower));
+    }
+    diffuse += float(df) * lc;
+    specular += float(sf) * lc;
+  }
+  return amb + dif * diffuse + spe * specular;
+}
+
+template <bool Reflect, bool Refract, bool Shadows>
+Color Integrator::radiance(const Ray& ray, int depth, Color weight, RayStats& st, float& err, double* tHit,
+                           Vec3* firstHit) const {
+  Hit hit;
+  if (!scene_.intersect(ray, hit, &st.nodesVisited)) return scene_.environment(ray.dir, up_);
+  if (tHit) *tHit = hit.t;
+  SurfacePoint sp = scene_.surface(ray, hit);
+  if (firstHit) *firstHit = sp.p;
+  const Material& m = scene_.material(sp.material);
+
+  // Orient normals toward the incoming ray (VTK flips normals of back faces)
+  Vec3 d = glm::normalize(ray.dir);
+  bool backFace = glm::dot(sp.ng, d) > 0.0;
+  Vec3 nf = backFace ? -sp.ns : sp.ns;
+  Vec3 ngf = backFace ? -sp.ng : sp.ng;
+  Vec3 v = -d;
+
+  // Local shading, weighted by opacity as VTK blends it
+  float opacity = m.opacity * (sp.hasColor && m.colorSource != ColorSource::Material ? sp.color.a : 1.0f);
+  Color local = shadeLocal<Shadows>(sp, m, nf, v, Refract && backFace, st);
+  if (scene_.features().textures && m.texture >= 0 && sp.hasUV) {
+    Color4 tc = scene_.texture(uint32_t(m.texture)).sample(sp.uv.x, sp.uv.y);
+    local *= Color(tc);
+    opacity *= tc.a;
+  }
+  Color result = opacity * local;
+
+  if constexpr (Reflect || Refract) {
+    Color kr = m.reflectance, kt = m.transmittance;
+    Ray refracted;
+    bool haveRefracted = false;
+    double cosForFresnel = glm::dot(v, nf);
+
+    if constexpr (Refract) {
+      if (maxComponent(kt) > 0.0f) {
+        Vec3 tdir = d;
+        if (s_.refractions && m.ior != 1.0f) {
+          // Snell's law; entering vs exiting from the geometric normal
+          bool entering = !backFace;
+          double eta = entering ? 1.0 / m.ior : double(m.ior);
+          Vec3 n = glm::dot(nf, ngf) > 0.0 ? nf : ngf;
+          double cosi = std::min(1.0, std::max(0.0, -glm::dot(d, n)));
+          double sin2t = eta * eta * (1.0 - cosi * cosi);
+          if (sin2t >= 1.0) {
+            kr += kt;  // total internal reflection: the refracted share goes to the reflected ray
+            kt = Color(0.0f);
+          } else {
+            double cost = std::sqrt(1.0 - sin2t);
+            tdir = eta * d + (eta * cosi - cost) * n;
+            if (glm::dot(tdir, ngf) >= 0.0) tdir = eta * d + (eta * glm::dot(-d, ngf) - cost) * ngf;
+            if (!entering) cosForFresnel = cost;
+          }
+        }
+        if (s_.fresnel && maxComponent(kt) > 0.0f) {
+          // Schlick: part of the transmitted share reflects at grazing angles
+          float r0 = (m.ior - 1.0f) / (m.ior + 1.0f);
+          r0 *= r0;
+          float c = float(std::clamp(cosForFresnel, 0.0, 1.0));
+          float f = r0 + (1.0f - r0) * std::pow(1.0f - c, 5.0f);
+          kr += kt * f;
+          kt *= 1.0f - f;
+        }
+        if (maxComponent(kt) > 0.0f) {
+          refracted.dir = glm::normalize(tdir);
+          refracted.origin = offsetRayOrigin(sp.p, sp.pError, sp.ng, refracted.dir);
+          haveRefracted = true;
+        }
+      }
+    }
+
+    auto spawn = [&](const Ray& r, const Color& k, uint64_t& counter, bool refractedRay) {
+      Color w = weight * k;
+      float wmax = maxComponent(w);
+      if (wmax <= 0.0f) return;
+      if (depth >= s_.maxDepth) {
+        ++st.savedByDepth;
+        err += wmax * remainingBound(depth + 1);
+        return;
+      }
+      if (wmax < s_.contributionThreshold) {
+        ++st.savedByThreshold;
+        err += wmax * remainingBound(depth + 1);
+        return;
+      }
+      ++counter;
+      double t = kInfinity;
+      Color c = radiance<Reflect, Refract, Shadows>(r, depth + 1, w, st, err, &t, nullptr);
+      if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) {
+        // The refracted ray travelled t units inside the medium
+        Color a = m.absorption * float(t);
+        c *= Color(std::exp(-a.x), std::exp(-a.y), std::exp(-a.z));
+      }
+      result += k * c;
+    };
+
+    if constexpr (Reflect) {
+      if (maxComponent(kr) > 0.0f) {
+        Ray r;
+        r.dir = glm::normalize(d - 2.0 * glm::dot(d, nf) * nf);
+        if (glm::dot(r.dir, ngf) <= 0.0) r.dir = glm::normalize(d - 2.0 * glm::dot(d, ngf) * ngf);
+        r.origin = offsetRayOrigin(sp.p, sp.pError, sp.ng, r.dir);
+        spawn(r, kr, st.reflection, false);
+      }
+    }
+    if (haveRefracted) spawn(refracted, kt, st.refraction, true);
+  }
+  return result;
+}
+
+}  // namespace whitted

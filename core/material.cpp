@@ -1,0 +1,81 @@
+#include "material.h"
+
+#include <algorithm>
+
+namespace whitted {
+
+namespace {
+
+float wrapCoord(float x, bool repeat) {
+  if (!std::isfinite(x)) return 0.0f;
+  if (repeat) return x - std::floor(x);
+  return std::clamp(x, 0.0f, 1.0f);
+}
+
+Color4 texel(const Texture& t, int x, int y) {
+  x = std::clamp(x, 0, t.width - 1);
+  y = std::clamp(y, 0, t.height - 1);
+  const uint8_t* p = &t.rgba[(size_t(y) * t.width + x) * 4];
+  return Color4(p[0], p[1], p[2], p[3]) * (1.0f / 255.0f);
+}
+
+uint32_t fixRange(float& v, float lo, float hi, float fallback, uint32_t bit) {
+  if (!std::isfinite(v)) {
+    v = fallback;
+    return bit;
+  }
+  if (v < lo || v > hi) {
+    v = std::clamp(v, lo, hi);
+    return bit;
+  }
+  return 0;
+}
+
+uint32_t fixColor(Color& c, float lo, float hi, uint32_t bit) {
+  uint32_t r = 0;
+  for (int i = 0; i < 3; ++i) r |= fixRange(c[i], lo, hi, lo, bit);
+  return r;
+}
+
+}  // namespace
+
+Color4 Texture::sample(float s, float t) const {
+  if (width <= 0 || height <= 0 || rgba.size() < size_t(width) * height * 4) return Color4(1.0f);
+  float u = wrapCoord(s, repeat) * width, v = wrapCoord(t, repeat) * height;
+  if (!interpolate) return texel(*this, int(u), int(v));
+  // Bilinear between texel centres
+  float fu = u - 0.5f, fv = v - 0.5f;
+  int x0 = int(std::floor(fu)), y0 = int(std::floor(fv));
+  float ax = fu - x0, ay = fv - y0;
+  auto at = [&](int x, int y) {
+    if (repeat) {
+      x = ((x % width) + width) % width;
+      y = ((y % height) + height) % height;
+    }
+    return texel(*this, x, y);
+  };
+  return (1 - ay) * ((1 - ax) * at(x0, y0) + ax * at(x0 + 1, y0)) +
+         ay * ((1 - ax) * at(x0, y0 + 1) + ax * at(x0 + 1, y0 + 1));
+}
+
+uint32_t sanitizeMaterial(Material& m) {
+  uint32_t fixed = 0;
+  fixed |= fixColor(m.ambientColor, 0.0f, 1e6f, 1u << 0);
+  fixed |= fixColor(m.diffuseColor, 0.0f, 1e6f, 1u << 0);
+  fixed |= fixColor(m.specularColor, 0.0f, 1e6f, 1u << 0);
+  fixed |= fixRange(m.ambient, 0.0f, 1e6f, 0.0f, 1u << 1);
+  fixed |= fixRange(m.diffuse, 0.0f, 1e6f, 0.0f, 1u << 1);
+  fixed |= fixRange(m.specular, 0.0f, 1e6f, 0.0f, 1u << 1);
+  fixed |= fixRange(m.specularPower, 0.0f, 1e6f, 1.0f, 1u << 2);
+  fixed |= fixRange(m.opacity, 0.0f, 1.0f, 1.0f, 1u << 3);
+  fixed |= fixColor(m.reflectance, 0.0f, 1.0f, 1u << 4);
+  fixed |= fixColor(m.transmittance, 0.0f, 1.0f, 1u << 5);
+  if (!std::isfinite(m.ior) || m.ior <= 0.0f) {
+    m.ior = 1.0f;
+    fixed |= 1u << 6;
+  }
+  fixed |= fixColor(m.absorption, 0.0f, 1e30f, 1u << 7);
+  return fixed;
+}
+
+}  // namespace whitted

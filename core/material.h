@@ -1,0 +1,58 @@
+// Surface materials: VTK's vtkProperty lighting parameters plus Whitted's reflectance, transmittance and index of
+// refraction, and textures.
+#pragma once
+
+#include "math.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace whitted {
+
+/// How the colour of a surface point combines with the material, mirroring VTK's mapper.
+enum class ColorSource : uint8_t {
+  Material,        ///< Property colours only.
+  ScalarsDiffuse,  ///< Geometry colour replaces the diffuse colour (VTK ScalarMaterialMode Diffuse).
+  ScalarsAmbient,  ///< Geometry colour replaces the ambient colour.
+  ScalarsAmbientAndDiffuse,  ///< Geometry colour replaces both (VTK's default when colouring by scalars).
+};
+
+/// One material. Field meanings and defaults are those of vtkProperty, plus the Whitted terms.
+struct Material {
+  // Local (VTK) shading
+  Color ambientColor{1.0f};    ///< vtkProperty AmbientColor. Default white.
+  Color diffuseColor{1.0f};    ///< vtkProperty DiffuseColor. Default white.
+  Color specularColor{1.0f};   ///< vtkProperty SpecularColor. Default white.
+  float ambient = 0.0f;        ///< vtkProperty Ambient coefficient. Default 0.
+  float diffuse = 1.0f;        ///< vtkProperty Diffuse coefficient. Default 1.
+  float specular = 0.0f;       ///< vtkProperty Specular coefficient. Default 0.
+  float specularPower = 1.0f;  ///< vtkProperty SpecularPower (Phong exponent). Default 1.
+  float opacity = 1.0f;        ///< vtkProperty Opacity: weight of the local colour. Default 1.
+  bool lighting = true;        ///< vtkProperty Lighting: false = unlit (colour = ambient + diffuse colours).
+  bool flatShading = false;    ///< true = facet normals (VTK_FLAT interpolation).
+  ColorSource colorSource = ColorSource::Material;
+
+  // Whitted terms
+  Color reflectance{0.0f};     ///< kr: weight of the mirror-reflected ray, RGB in [0,1]. Default 0.
+  Color transmittance{0.0f};   ///< kt: weight of the refracted ray and shadow-ray attenuation per crossing. Default 0.
+  float ior = 1.0f;            ///< Index of refraction of the inside (outside is vacuum, 1). Default 1.
+  Color absorption{0.0f};      ///< Beer-Lambert coefficient per world unit, used only when enabled. Default 0.
+
+  int32_t texture = -1;        ///< Index into Scene textures, or -1. The texel modulates the diffuse/ambient colour.
+};
+
+/// RGBA8 texture, rows bottom to top (OpenGL/VTK order).
+struct Texture {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgba;   ///< width*height*4 bytes.
+  bool repeat = true;          ///< Repeat (true) or clamp to edge (false).
+  bool interpolate = false;    ///< Bilinear (true) or nearest (false), as vtkTexture InterpolateOn/Off.
+  /// Samples at (s, t) in texture coordinates; returns RGBA in [0,1].
+  Color4 sample(float s, float t) const;
+};
+
+/// Sanitises a material in place (NaN, negative or out-of-range values clamped to the documented ranges) and
+/// returns a bit mask of what was fixed (0 = nothing), so adapters can warn once.
+uint32_t sanitizeMaterial(Material& m);
+
+}  // namespace whitted

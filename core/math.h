@@ -1,0 +1,108 @@
+// Basic value types and numeric helpers shared by the whole core.
+//
+// Precision policy: world-space positions, ray origins and transforms are double precision, so a scene
+// translated to 1e7 or scaled by 1e-6 keeps the relative precision VTK's double points carry. Colours,
+// normals used only for shading, and BVH node bounds (rounded outward) are single precision.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <initializer_list>
+#include <limits>
+
+namespace whitted {
+
+using Vec2 = glm::dvec2;
+using Vec3 = glm::dvec3;
+using Vec4 = glm::dvec4;
+using Mat3 = glm::dmat3;
+using Mat4 = glm::dmat4;
+using Vec2f = glm::vec2;
+using Vec3f = glm::vec3;
+using Vec4f = glm::vec4;
+using Color = glm::vec3;   ///< Linear RGB radiance / reflectance, single precision.
+using Color4 = glm::vec4;  ///< Linear RGBA.
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr double kPi = 3.14159265358979323846;
+
+/// Largest component of a colour (used for contribution weights).
+inline float maxComponent(const Color& c) { return std::max(c.x, std::max(c.y, c.z)); }
+
+/// True when every component is finite.
+inline bool isFinite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+inline bool isFinite(const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+/// gamma(n) of Higham / pbrt: bound on the relative error of n chained double-precision operations.
+constexpr double gammaBound(int n) {
+  constexpr double eps = std::numeric_limits<double>::epsilon() * 0.5;
+  return (n * eps) / (1.0 - n * eps);
+}
+
+/// A ray: origin + t * dir for t in [tMin, tMax]. dir need not be normalised.
+struct Ray {
+  Vec3 origin{0.0};
+  Vec3 dir{0.0, 0.0, 1.0};
+  double tMin = 0.0;
+  double tMax = kInfinity;
+};
+
+/// Axis-aligned box in double precision.
+struct Bounds3 {
+  Vec3 lo{kInfinity};
+  Vec3 hi{-kInfinity};
+
+  bool valid() const { return lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z; }
+  void extend(const Vec3& p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  void extend(const Bounds3& b) {
+    lo = glm::min(lo, b.lo);
+    hi = glm::max(hi, b.hi);
+  }
+  Vec3 center() const { return 0.5 * (lo + hi); }
+  Vec3 extent() const { return hi - lo; }
+  double halfArea() const {
+    Vec3 d = glm::max(hi - lo, Vec3(0.0));
+    return d.x * d.y + d.y * d.z + d.z * d.x;
+  }
+  double diagonal() const { return valid() ? glm::length(hi - lo) : 0.0; }
+  /// Largest absolute coordinate (scale of floating-point error for points inside).
+  double maxAbs() const {
+    if (!valid()) return 0.0;
+    Vec3 m = glm::max(glm::abs(lo), glm::abs(hi));
+    return std::max(m.x, std::max(m.y, m.z));
+  }
+};
+
+/// Transforms a point by an affine 4x4 matrix.
+inline Vec3 transformPoint(const Mat4& m, const Vec3& p) { return Vec3(m * Vec4(p, 1.0)); }
+/// Transforms a direction (no translation).
+inline Vec3 transformVector(const Mat4& m, const Vec3& v) { return Mat3(m) * v; }
+/// Box of the 8 transformed corners.
+Bounds3 transformBounds(const Mat4& m, const Bounds3& b);
+
+/// Robust origin for a secondary ray leaving a surface (pbrt-v4 style, no scene-dependent epsilon).
+/// p is the computed hit point, pError a per-axis bound on its absolute floating-point error, n the geometric
+/// normal and w the new direction. The point is pushed along n by the error bound projected on |n|, to the side
+/// w points to, then rounded away from the surface by one ulp per axis.
+Vec3 offsetRayOrigin(const Vec3& p, const Vec3& pError, const Vec3& n, const Vec3& w);
+
+/// Deterministic hash of up to four integers to a float in [0,1) (PCG-style mixing).
+inline uint32_t hashU32(uint32_t a, uint32_t b = 0, uint32_t c = 0, uint32_t d = 0) {
+  uint64_t h = 0x9E3779B97F4A7C15ull;
+  for (uint32_t v : {a, b, c, d}) {
+    h ^= v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+    h *= 0xBF58476D1CE4E5B9ull;
+    h ^= h >> 31;
+  }
+  return static_cast<uint32_t>(h >> 32);
+}
+inline float hashFloat(uint32_t a, uint32_t b = 0, uint32_t c = 0, uint32_t d = 0) {
+  return static_cast<float>(hashU32(a, b, c, d) >> 8) * (1.0f / 16777216.0f);
+}
+
+}  // namespace whitted

@@ -1,0 +1,213 @@
+#include "renderer.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+namespace whitted {
+
+void FrameBuffer::resize(int w, int h) {
+  width = std::max(0, w);
+  height = std::max(0, h);
+  std::size_t n = std::size_t(width) * height;
+  color.assign(n, Color4(0.0f));
+  depth.assign(n, 1.0f);
+  traced.assign(n, 0);
+}
+
+int hardwareThreads() { return std::max(1u, std::thread::hardware_concurrency()); }
+
+namespace {
+
+struct PixelResult {
+  Color4 color;
+  float depth;
+  float error;
+  bool anyHit;
+};
+
+class FrameJob {
+ public:
+  FrameJob(const Scene& scene, const Camera& camera, const RenderSettings& s, int w, int h, FrameBuffer& fb)
+      : scene_(scene), camera_(camera), s_(s), w_(w), h_(h), fb_(fb),
+        integ_(scene, s.integrator, camera.up()) {
+    ts_ = std::max(1, s.tileSize);
+    tilesX_ = (w + ts_ - 1) / ts_;
+    tilesY_ = (h + ts_ - 1) / ts_;
+    int stride = std::max(1, s.tileStride);
+    for (int t = 0; t < tilesX_ * tilesY_; ++t)
+      if (t % stride == ((s.tileOffset % stride) + stride) % stride) myTiles_.push_back(t);
+    tileStats_.resize(myTiles_.size());
+    error_.assign(std::size_t(w) * h, 0.0f);
+    hitMask_.assign(std::size_t(w) * h, 0);
+  }
+
+  FrameStats run() {
+    FrameStats fs;
+    auto start = std::chrono::steady_clock::now();
+    int n = s_.samplesPerPixel < 1 ? 1 : s_.samplesPerPixel;
+    int threads = s_.threads > 0 ? s_.threads : hardwareThreads();
+    fs.threads = threads;
+    bool adaptive = s_.adaptive && n > 1;
+    // Pass 1: the full sample set, or only centres in adaptive mode
+    runPass(threads, [&](int tile) { tracePixels(tile, adaptive ? 1 : n, false); });
+    // Pass 2 (adaptive): full sample set where neighbouring centre samples disagree
+    if (adaptive && !aborted_) {
+      marks_.assign(std::size_t(w_) * h_, 0);
+      markDisagreements();
+      runPass(threads, [&](int tile) { tracePixels(tile, n, true); });
+    }
+    fs.secondsTrace = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+    // Deterministic reductions (fixed order, independent of thread count)
+    for (const RayStats& r : tileStats_) fs.rays += r;
+    double sum2 = 0.0, mx = 0.0;
+    for (float e : error_) {
+      sum2 += double(e) * e;
+      mx = std::max(mx, double(e));
+    }
+    fs.errorEstimateRms = error_.empty() ? 0.0 : std::sqrt(sum2 / double(error_.size()));
+    fs.errorEstimateMax = mx;
+    fs.samples = samples_.load();
+    fs.pixelsSupersampled = supersampled_.load();
+    fs.aborted = aborted_;
+    fs.kernelReflection = integ_.usesReflection();
+    fs.kernelRefraction = integ_.usesRefraction();
+    fs.kernelShadows = integ_.usesShadows();
+    return fs;
+  }
+
+ private:
+  template <typename Fn>
+  void runPass(int threads, Fn&& tileFn) {
+    std::atomic<std::size_t> next{0};
+    std::atomic<std::size_t> done{0};
+    std::atomic<bool> abortFlag{aborted_};
+    auto worker = [&](bool mainThread) {
+      for (;;) {
+        if (abortFlag.load(std::memory_order_relaxed)) return;
+        std::size_t i = next.fetch_add(1);
+        if (i >= myTiles_.size()) return;
+        tileFn(int(i));
+        std::size_t d = done.fetch_add(1) + 1;
+        if (mainThread) {
+          // VTK's abort check and progress must run on the calling (GL) thread
+          if (s_.abortCheck && s_.abortCheck()) abortFlag = true;
+          if (s_.progress) s_.progress(double(d) / double(myTiles_.size()));
+        }
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads && std::size_t(t) < myTiles_.size(); ++t) pool.emplace_back(worker, false);
+    worker(true);
+    for (auto& th : pool) th.join();
+    aborted_ = abortFlag.load();
+  }
+
+  // Sample position inside a pixel: centre for one sample, jittered strata otherwise.
+  Vec2 samplePos(int px, int py, int s, int n) const {
+    if (n == 1) return Vec2(px + 0.5, py + 0.5);
+    int nx = int(std::ceil(std::sqrt(double(n))));
+    int ny = (n + nx - 1) / nx;
+    int cx = s % nx, cy = s / nx;
+    double jx = hashFloat(uint32_t(px), uint32_t(py), uint32_t(s), 0u);
+    double jy = hashFloat(uint32_t(px), uint32_t(py), uint32_t(s), 1u);
+    return Vec2(px + (cx + jx) / nx, py + (cy + jy) / ny);
+  }
+
+  Color missColor(int py) const {
+    if (s_.screenGradient && scene_.gradientBackground)
+      return glm::mix(scene_.background, scene_.background2, float((py + 0.5) / h_));
+    return scene_.background;
+  }
+
+  void tracePixels(int tileSlot, int n, bool refineOnly) {
+    int tile = myTiles_[tileSlot];
+    int x0 = (tile % tilesX_) * ts_, y0 = (tile / tilesX_) * ts_;
+    int x1 = std::min(w_, x0 + ts_), y1 = std::min(h_, y0 + ts_);
+    RayStats& st = tileStats_[tileSlot];
+    uint64_t samples = 0, refined = 0;
+    for (int py = y0; py < y1; ++py)
+      for (int px = x0; px < x1; ++px) {
+        std::size_t idx = std::size_t(py) * w_ + px;
+        if (refineOnly && !marks_[idx]) continue;
+        Color sum(0.0f);
+        float alpha = 0.0f, err = 0.0f, depth = 1.0f;
+        bool anyHit = false;
+        for (int s = 0; s < n; ++s) {
+          Vec2 p = samplePos(px, py, s, n);
+          Ray r = camera_.rayPixel(p.x, p.y, w_, h_);
+          Sample smp = integ_.trace(r, st);
+          if (smp.hit) {
+            anyHit = true;
+            depth = std::min(depth, float(std::clamp(camera_.glDepth(smp.firstHit), 0.0, 1.0)));
+            sum += smp.color;
+          } else {
+            sum += missColor(py);
+          }
+          alpha += smp.alpha;
+          err += smp.errorBound;
+        }
+        samples += n;
+        if (refineOnly) ++refined;
+        float inv = 1.0f / float(n);
+        fb_.color[idx] = Color4(sum * inv, alpha * inv);
+        fb_.depth[idx] = depth;
+        fb_.traced[idx] = 1;
+        error_[idx] = std::min(1.0f, err * inv);
+        hitMask_[idx] = anyHit ? 1 : 0;
+      }
+    samples_ += samples;
+    supersampled_ += refined;
+  }
+
+  void markDisagreements() {
+    auto clampC = [](const Color4& c) { return glm::clamp(c, Color4(0.0f), Color4(1.0f)); };
+    for (int y = 0; y < h_; ++y)
+      for (int x = 0; x < w_; ++x) {
+        std::size_t i = std::size_t(y) * w_ + x;
+        if (!fb_.traced[i]) continue;
+        Color4 c = clampC(fb_.color[i]);
+        const int nb[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+        for (auto& o : nb) {
+          int nx = x + o[0], ny = y + o[1];
+          if (nx < 0 || ny < 0 || nx >= w_ || ny >= h_) continue;
+          std::size_t j = std::size_t(ny) * w_ + nx;
+          if (!fb_.traced[j]) continue;
+          Color4 d = glm::abs(c - clampC(fb_.color[j]));
+          if (std::max(std::max(d.x, d.y), std::max(d.z, d.w)) > s_.adaptiveThreshold || hitMask_[i] != hitMask_[j]) {
+            marks_[i] = 1;
+            break;
+          }
+        }
+      }
+  }
+
+  const Scene& scene_;
+  const Camera& camera_;
+  const RenderSettings& s_;
+  int w_, h_;
+  FrameBuffer& fb_;
+  Integrator integ_;
+  int ts_, tilesX_, tilesY_;
+  std::vector<int> myTiles_;
+  std::vector<RayStats> tileStats_;
+  std::vector<float> error_;
+  std::vector<uint8_t> hitMask_, marks_;
+  std::atomic<uint64_t> samples_{0}, supersampled_{0};
+  bool aborted_ = false;
+};
+
+}  // namespace
+
+FrameStats render(const Scene& scene, const Camera& camera, const RenderSettings& settings, int width, int height,
+                  FrameBuffer& fb) {
+  fb.resize(width, height);
+  if (width <= 0 || height <= 0) return FrameStats{};
+  FrameJob job(scene, camera, settings, width, height, fb);
+  return job.run();
+}
+
+}  // namespace whitted

@@ -1,0 +1,43 @@
+#include "report.h"
+
+#include <cstdio>
+
+namespace whitted {
+
+std::string frameReport(const FrameStats& f, const SceneStats& s, const CommitStats& c, int w, int h,
+                        double secondsOther, const char* otherLabel) {
+  char buf[2048];
+  double traced = double(f.rays.traced());
+  double mrays = f.secondsTrace > 0.0 ? traced / f.secondsTrace * 1e-6 : 0.0;
+  int n = std::snprintf(
+      buf, sizeof buf,
+      "Whitted frame report\n"
+      "  image            %d x %d, %llu samples, %d threads%s\n"
+      "  time             build %.2f ms (%d object BVHs rebuilt, top level %s), trace %.2f ms",
+      w, h, (unsigned long long)f.samples, f.threads, f.aborted ? " (ABORTED)" : "", c.secondsBuild * 1e3,
+      c.objectsRebuilt, c.topLevelRebuilt ? "rebuilt" : "kept", f.secondsTrace * 1e3);
+  std::string out(buf, std::size_t(n));
+  if (otherLabel) {
+    n = std::snprintf(buf, sizeof buf, ", %s %.2f ms", otherLabel, secondsOther * 1e3);
+    out.append(buf, std::size_t(n));
+  }
+  n = std::snprintf(
+      buf, sizeof buf,
+      "\n"
+      "  rays             primary %llu, shadow %llu, reflection %llu, refraction %llu (%.2f Mrays/s)\n"
+      "  rays saved       %llu below contribution threshold, %llu at depth cap\n"
+      "  kernel           reflection %s, refraction %s, shadows %s\n"
+      "  scene            %zu triangles, %zu spheres, %zu tubes, %zu objects, %zu instances, %zu invalid skipped\n"
+      "  memory           BVH %zu nodes, %.2f MiB; geometry %.2f MiB\n"
+      "  error estimate   RMS %.3g, max %.3g (radiance left out by depth cap and threshold)\n",
+      (unsigned long long)f.rays.primary, (unsigned long long)f.rays.shadow, (unsigned long long)f.rays.reflection,
+      (unsigned long long)f.rays.refraction, mrays, (unsigned long long)f.rays.savedByThreshold,
+      (unsigned long long)f.rays.savedByDepth, f.kernelReflection ? "on" : "off", f.kernelRefraction ? "on" : "off",
+      f.kernelShadows ? "on" : "off", s.triangles, s.spheres, s.capsules, s.objects, s.instances,
+      c.invalidPrimitives, s.bvhNodes, s.bvhBytes / 1048576.0, s.geometryBytes / 1048576.0, f.errorEstimateRms,
+      f.errorEstimateMax);
+  out.append(buf, std::size_t(n));
+  return out;
+}
+
+}  // namespace whitted

@@ -1,0 +1,180 @@
+// The scene: objects (geometry with their own BVH), instances (object + transform + material), materials, lights,
+// textures and background. commit() rebuilds only what changed: the BVH of each edited object, and the small
+// top-level BVH over instances when any instance or object bound changed. It also detects which features the
+// scene can use so the integrator can run a kernel that skips the rest.
+#pragma once
+
+#include "bvh.h"
+#include "light.h"
+#include "material.h"
+#include "shapes.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace whitted {
+
+enum class GeometryType : uint8_t { Triangles, Spheres, Capsules };
+
+/// What the committed scene contains; the integrator leaves out every mechanism whose flag is false.
+struct Features {
+  bool reflective = false;     ///< Some visible material has kr > 0.
+  bool transmissive = false;   ///< Some visible material has kt > 0.
+  bool shadowLights = false;   ///< Some light casts shadows.
+  bool spheres = false;
+  bool capsules = false;
+  bool transforms = false;     ///< Some visible instance has a non-identity transform.
+  bool textures = false;       ///< Some visible material uses a texture with texture coordinates present.
+};
+
+/// A closest hit: ray parameter, instance, original primitive index and surface parameters.
+struct Hit {
+  double t = kInfinity;
+  uint32_t instance = 0;
+  uint32_t prim = 0;
+  double u = 0.0, v = 0.0;
+};
+
+/// Everything shading needs at a hit, in world space.
+struct SurfacePoint {
+  Vec3 p;               ///< Hit point.
+  Vec3 pError;          ///< Per-axis bound on the absolute error of p (for robust ray offsets).
+  Vec3 ng;              ///< Unit geometric normal (as the geometry winds, not flipped toward the ray).
+  Vec3 ns;              ///< Unit shading normal, on the same side as ng.
+  Color4 color{1.0f};   ///< Geometry colour (vertex/triangle/sphere), valid when hasColor.
+  Vec2f uv{0.0f};       ///< Texture coordinates, valid when hasUV.
+  bool hasColor = false;
+  bool hasUV = false;
+  uint32_t material = 0;
+};
+
+/// Counts of what commit() did, for statistics and for tests of caching.
+struct CommitStats {
+  int objectsRebuilt = 0;      ///< Per-object BVHs built in this commit.
+  bool topLevelRebuilt = false;
+  double secondsBuild = 0.0;   ///< Wall time of all BVH builds in this commit.
+  std::size_t invalidPrimitives = 0;  ///< Primitives skipped (non-finite or degenerate) in rebuilt objects.
+};
+
+/// Totals over the scene, for the frame report.
+struct SceneStats {
+  std::size_t triangles = 0, spheres = 0, capsules = 0, objects = 0, instances = 0;
+  std::size_t bvhNodes = 0, bvhBytes = 0, geometryBytes = 0;
+};
+
+class Scene {
+ public:
+  // Objects -----------------------------------------------------------------------------------------------
+  /// Adds geometry; returns its object id. The data is taken by value (move it in).
+  uint32_t addMesh(TriangleMesh mesh);
+  uint32_t addSpheres(SphereSet spheres);
+  uint32_t addCapsules(CapsuleSet capsules);
+  /// Replaces an object's geometry (marks it for rebuild at the next commit).
+  void setMesh(uint32_t object, TriangleMesh mesh);
+  void setSpheres(uint32_t object, SphereSet spheres);
+  void setCapsules(uint32_t object, CapsuleSet capsules);
+  /// Frees an object's data; instances of it become invisible.
+  void removeObject(uint32_t object);
+  std::size_t objectCount() const { return objects_.size(); }
+  GeometryType objectType(uint32_t object) const { return objects_[object].type; }
+  const TriangleMesh& mesh(uint32_t object) const { return objects_[object].mesh; }
+  const SphereSet& spheres(uint32_t object) const { return objects_[object].spheres; }
+  const CapsuleSet& capsules(uint32_t object) const { return objects_[object].capsules; }
+
+  // Instances ---------------------------------------------------------------------------------------------
+  /// Places an object in the world with an object -> world affine transform and a material.
+  uint32_t addInstance(uint32_t object, const Mat4& toWorld, uint32_t material);
+  void setInstanceTransform(uint32_t instance, const Mat4& toWorld);
+  void setInstanceMaterial(uint32_t instance, uint32_t material);
+  void setInstanceVisible(uint32_t instance, bool visible);
+  void setInstanceObject(uint32_t instance, uint32_t object);
+  std::size_t instanceCount() const { return instances_.size(); }
+  uint32_t instanceObject(uint32_t instance) const { return instances_[instance].object; }
+  /// Removes all instances (objects stay, so their BVHs are kept).
+  void clearInstances();
+
+  // Materials, textures, lights, background ---------------------------------------------------------------
+  uint32_t addMaterial(const Material& m);
+  Material& material(uint32_t id) { return materials_[id]; }
+  const Material& material(uint32_t id) const { return materials_[id]; }
+  std::size_t materialCount() const { return materials_.size(); }
+  void clearMaterials() { materials_.clear(); }
+  uint32_t addTexture(Texture t);
+  const Texture& texture(uint32_t id) const { return textures_[id]; }
+  void clearTextures() { textures_.clear(); }
+  std::vector<Light>& lights() { return lights_; }
+  const std::vector<Light>& lights() const { return lights_; }
+
+  Color background{0.0f};      ///< Background colour (bottom colour when gradient). Default black.
+  Color background2{0.0f};     ///< Top colour of a vertical gradient background.
+  bool gradientBackground = false;
+  float backgroundAlpha = 1.0f;  ///< Alpha written for misses (0 for layered or parallel compositing).
+  /// Background seen by a ray leaving the scene in direction d (gradient along the camera's up).
+  Color environment(const Vec3& d, const Vec3& up) const;
+
+  // Commit and queries ------------------------------------------------------------------------------------
+  /// Rebuilds dirty object BVHs and, if needed, the top-level BVH; detects features.
+  CommitStats commit();
+  const Features& features() const { return features_; }
+  SceneStats stats() const;
+  /// World bounds of visible instances (valid after commit).
+  Bounds3 bounds() const { return bounds_; }
+  /// Upper bound on the local (non-recursive) radiance any visible surface or the background can return.
+  float localRadianceBound() const { return localBound_; }
+  /// Largest kr + kt component over visible materials (for recursion error bounds).
+  float maxSecondaryWeight() const { return maxSecondary_; }
+
+  /// Closest hit along ray in (tMin, tMax). nodes, if given, counts visited BVH nodes.
+  bool intersect(const Ray& ray, Hit& hit, uint64_t* nodes = nullptr) const;
+
+  /// Transmittance along a shadow ray over (tMin, tMax): zero if an opaque surface blocks it, otherwise the
+  /// product of kt of every transmissive surface crossed. Stops early once below cutoff (returns zero).
+  Color transmittance(const Ray& ray, float cutoff, uint64_t* nodes = nullptr) const;
+
+  /// Surface data of a hit.
+  SurfacePoint surface(const Ray& ray, const Hit& hit) const;
+
+ private:
+  struct Object {
+    GeometryType type = GeometryType::Triangles;
+    TriangleMesh mesh;
+    SphereSet spheres;
+    CapsuleSet capsules;
+    Bvh bvh;
+    std::vector<uint32_t> leafPrims;   ///< BVH leaf slot -> original primitive index.
+    std::vector<glm::uvec3> leafTris;  ///< Triangles in leaf order (cache-friendly traversal).
+    Bounds3 bounds;
+    bool dirty = true;
+    bool alive = true;
+  };
+  struct Instance {
+    uint32_t object = 0;
+    uint32_t material = 0;
+    Mat4 toWorld{1.0}, toObject{1.0};
+    Mat3 normalToWorld{1.0};
+    bool identity = true;
+    bool visible = true;
+  };
+
+  void rebuildObject(Object& o, CommitStats& st);
+  bool intersectObject(const Object& o, const Ray& ray, double& tMax, Hit& hit, uint64_t* nodes) const;
+  template <typename Fn>
+  void forEachVisibleInstance(Fn&& fn) const;
+
+  std::vector<Object> objects_;
+  std::vector<Instance> instances_;
+  std::vector<Material> materials_;
+  std::vector<Texture> textures_;
+  std::vector<Light> lights_;
+
+  Bvh top_;
+  std::vector<uint32_t> topInstances_;  ///< Top-level leaf slot -> instance index.
+  bool topDirty_ = true;
+  Features features_;
+  Bounds3 bounds_;
+  float localBound_ = 1.0f;
+  float maxSecondary_ = 0.0f;
+};
+
+}  // namespace whitted

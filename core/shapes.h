@@ -1,0 +1,61 @@
+// Geometry containers (triangle meshes, sphere sets, capsule sets) and their ray intersection routines.
+//
+// All intersection routines work in double precision and take rays whose direction need not be normalised; t is
+// the ray parameter. Each routine is exact at edges and vertices where the method allows (the triangle test is
+// watertight) and re-centres far-away origins before solving quadratics, so a camera at 1e7 units does not lose
+// the hit to cancellation.
+#pragma once
+
+#include "math.h"
+
+#include <optional>
+#include <vector>
+
+namespace whitted {
+
+/// Indexed triangle mesh in object space.
+struct TriangleMesh {
+  std::vector<Vec3> positions;            ///< Vertex positions (object space, double).
+  std::vector<glm::uvec3> triangles;      ///< Vertex indices per triangle.
+  std::vector<Vec3f> normals;             ///< Optional per-vertex normals (empty = use facet normals).
+  std::vector<Color4> vertexColors;       ///< Optional per-vertex RGBA in [0,1].
+  std::vector<Color4> triangleColors;     ///< Optional per-triangle RGBA in [0,1] (wins over vertexColors).
+  std::vector<Vec2f> texcoords;           ///< Optional per-vertex texture coordinates.
+};
+
+/// A set of spheres (VTK's points rendered as spheres).
+struct SphereSet {
+  std::vector<Vec3> centers;
+  std::vector<double> radii;              ///< One per sphere, or a single value for all.
+  std::vector<Color4> colors;             ///< Optional per-sphere RGBA.
+};
+
+/// A set of capsules: cylinders of radius r between two points, closed by hemispheres (VTK's lines as tubes;
+/// the caps make joints between consecutive segments seamless).
+struct CapsuleSet {
+  std::vector<Vec3> p0, p1;               ///< Segment end points.
+  std::vector<double> radii;              ///< One per capsule, or a single value for all.
+  std::vector<Color4> colors0, colors1;   ///< Optional RGBA at each end (interpolated along the axis).
+};
+
+/// Result of a primitive test: ray parameter plus two surface parameters.
+/// Triangles: (u, v) = barycentrics of vertices 1 and 2. Capsules: u = position along the axis in [0,1].
+struct PrimHit {
+  double t;
+  double u, v;
+};
+
+/// Watertight ray/triangle test (Woop, Benthin, Wald 2013). Returns a hit with t in (tMin, tMax).
+std::optional<PrimHit> intersectTriangle(const Ray& ray, const Vec3& p0, const Vec3& p1, const Vec3& p2);
+
+/// Ray/sphere test, stable for origins far from the sphere (the origin is moved to the point of closest approach
+/// before the quadratic is solved). Returns the nearest t in (tMin, tMax).
+std::optional<PrimHit> intersectSphere(const Ray& ray, const Vec3& center, double radius);
+
+/// Ray/capsule test (cylinder between a and b plus spherical caps), with the same re-centring.
+std::optional<PrimHit> intersectCapsule(const Ray& ray, const Vec3& a, const Vec3& b, double radius);
+
+/// Per-axis bound on the absolute error of the point b0*p0 + b1*p1 + b2*p2 (pbrt-v4, section 6.8).
+Vec3 triangleHitError(const Vec3& p0, const Vec3& p1, const Vec3& p2, double b0, double b1, double b2);
+
+}  // namespace whitted
