@@ -1,0 +1,167 @@
+#!/usr/bin/env bash
+# Whitted: the two commands of the README, plus their building blocks.
+#
+#   ./whitted.sh render [--out whitted.png] [--size 800x600] ...   main job: render the default scene, print report
+#   ./whitted.sh test                                              install, build every configuration, run all tests
+#
+# Both install what they need (Debian 12 packages, as root) and are idempotent: a second run only rebuilds what
+# changed. Build trees live under $WHITTED_BUILD_DIR (default ./build):
+#   build/vtk       core + VTK module (system VTK 9.1) + tests          (the main configuration)
+#   build/paraview  the same plugin/ sources against ParaView 5.11's VTK (ParaView plugin)
+#   build/asan      core + VTK module + C++ tests with AddressSanitizer + UndefinedBehaviorSanitizer (clang)
+#   build/tsan      core tests with ThreadSanitizer (clang)
+#   build/fuzz      libFuzzer targets (clang)
+#   build/pvprefix  python3-paraview unpacked privately (it conflicts with python3-vtk9; see README)
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+BUILD="${WHITTED_BUILD_DIR:-$ROOT/build}"
+JOBS="$(nproc)"
+XVFB=(xvfb-run -a -s "-screen 0 1280x1024x24 -noreset")
+
+PACKAGES=(
+  build-essential cmake ninja-build git pkg-config file
+  libglm-dev libgtest-dev libbenchmark-dev
+  libvtk9-dev python3-vtk9 python3-numpy python3-matplotlib
+  paraview paraview-dev openmpi-bin
+  xvfb xauth x11-apps imagemagick
+  clang libclang-rt-14-dev llvm
+  libembree-dev libtbb-dev povray
+)
+
+log() { printf '\n== %s\n' "$*" >&2; }
+
+install_packages() {
+  local missing=()
+  for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if ((${#missing[@]})); then
+    log "installing Debian packages: ${missing[*]}"
+    local sudo=""
+    [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  fi
+  # python3-paraview conflicts with python3-vtk9 (both ship vtkmodules): unpack it privately instead of installing
+  if [ ! -d "$BUILD/pvprefix/usr/lib/python3/dist-packages/paraview" ]; then
+    log "unpacking python3-paraview into $BUILD/pvprefix"
+    mkdir -p "$BUILD/deb" "$BUILD/pvprefix"
+    (cd "$BUILD/deb" && rm -f python3-paraview_*.deb && apt-get download python3-paraview >/dev/null)
+    dpkg -x "$BUILD"/deb/python3-paraview_*.deb "$BUILD/pvprefix"
+  fi
+}
+
+configure_build() {  # name, extra cmake args...
+  local name="$1"
+  shift
+  local dir="$BUILD/$name"
+  if [ ! -f "$dir/build.ninja" ]; then
+    log "configuring $name"
+    cmake -S "$ROOT" -B "$dir" -G Ninja -DPython3_EXECUTABLE=/usr/bin/python3 "$@" >"$BUILD/$name.configure.log" ||
+      { cat "$BUILD/$name.configure.log"; return 1; }
+  fi
+  log "building $name"
+  ninja -C "$dir" -j "$JOBS" >"$BUILD/$name.build.log" 2>&1 || { tail -50 "$BUILD/$name.build.log"; return 1; }
+}
+
+build_main() { configure_build vtk -DCMAKE_BUILD_TYPE=Release; }
+
+build_paraview() {
+  [ -f "$ROOT/plugin/paraview/CMakeLists.txt" ] || return 0
+  configure_build paraview -DCMAKE_BUILD_TYPE=Release -DWHITTED_PARAVIEW=ON \
+    -DPARAVIEW_DEBIAN_PYTHON_PREFIX="$BUILD/pvprefix"
+}
+
+build_asan() {
+  CC=clang CXX=clang++ configure_build asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWHITTED_BENCHMARK=OFF \
+    -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" \
+    -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined"
+}
+
+build_tsan() {
+  CC=clang CXX=clang++ configure_build tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWHITTED_VTK=OFF \
+    -DWHITTED_BENCHMARK=OFF -DCMAKE_CXX_FLAGS="-fsanitize=thread -fno-omit-frame-pointer" \
+    -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread"
+}
+
+build_fuzz() {
+  CC=clang CXX=clang++ configure_build fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWHITTED_FUZZ=ON \
+    -DWHITTED_BENCHMARK=OFF -DWHITTED_BUILD_TESTING=ON
+}
+
+pv_env() {
+  export PYTHONPATH="$BUILD/pvprefix/usr/lib/python3/dist-packages${PYTHONPATH:+:$PYTHONPATH}"
+}
+
+cmd_render() {
+  install_packages
+  build_main
+  if [ -f "$ROOT/plugin/python/whitted_demo.py" ] && [ -d "$BUILD/vtk/lib" ]; then
+    log "rendering the default scene through vtkWhittedPass"
+    PYTHONPATH="$BUILD/vtk/lib/python3/dist-packages${PYTHONPATH:+:$PYTHONPATH}" \
+      "${XVFB[@]}" /usr/bin/python3 "$ROOT/plugin/python/whitted_demo.py" "$@"
+  else
+    "$BUILD/vtk/core/whitted_render" "$@"
+  fi
+}
+
+cmd_test() {
+  install_packages
+  build_main
+  build_paraview
+  build_asan
+  build_tsan
+  build_fuzz
+  local status=0
+  # Rendering suites under Xvfb, sanitizer suites beside them (2 cores: run the two heavy groups in parallel)
+  log "running tests"
+  (cd "$BUILD/vtk" && "${XVFB[@]}" ctest -j "$JOBS" --output-on-failure --timeout 900) >"$BUILD/test-vtk.log" 2>&1 &
+  local pid_main=$!
+  (cd "$BUILD/asan" && ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
+    "${XVFB[@]}" ctest --output-on-failure --timeout 900 -LE "python|benchmark|paraview") >"$BUILD/test-asan.log" 2>&1 &
+  local pid_asan=$!
+  wait $pid_main || status=1
+  wait $pid_asan || status=1
+  (cd "$BUILD/tsan" && TSAN_OPTIONS="halt_on_error=1" ctest --output-on-failure --timeout 900 -L core) \
+    >"$BUILD/test-tsan.log" 2>&1 || status=1
+  (cd "$BUILD/fuzz" && ctest --output-on-failure --timeout 900 -L fuzz) >"$BUILD/test-fuzz.log" 2>&1 || status=1
+  if [ -d "$BUILD/paraview" ]; then
+    pv_env
+    (cd "$BUILD/paraview" && "${XVFB[@]}" ctest --output-on-failure --timeout 900) >"$BUILD/test-paraview.log" 2>&1 ||
+      status=1
+  fi
+  for suite in vtk asan tsan fuzz paraview; do
+    [ -f "$BUILD/test-$suite.log" ] || continue
+    log "suite $suite"
+    grep -E "tests passed|tests failed|\*\*\*Failed|Failed  |Timeout|Not Run|Exception" "$BUILD/test-$suite.log" || true
+  done
+  # One closing line over all suites
+  local passed=0 failed=0 line
+  for suite in vtk asan tsan fuzz paraview; do
+    [ -f "$BUILD/test-$suite.log" ] || continue
+    line=$(grep -E "tests passed, [0-9]+ tests? failed out of [0-9]+" "$BUILD/test-$suite.log" | tail -1) || true
+    [ -n "$line" ] || { status=1; log "suite $suite ran no tests"; continue; }
+    local f t
+    f=$(sed -E 's/.*passed, ([0-9]+) tests? failed out of ([0-9]+).*/\1/' <<<"$line")
+    t=$(sed -E 's/.*passed, ([0-9]+) tests? failed out of ([0-9]+).*/\2/' <<<"$line")
+    failed=$((failed + f))
+    passed=$((passed + t - f))
+  done
+  ((failed == 0)) || status=1
+  if [ "$status" -ne 0 ]; then
+    log "FAILURES: full logs in $BUILD/test-*.log"
+    for suite in vtk asan tsan fuzz paraview; do
+      [ -f "$BUILD/test-$suite.log" ] && grep -q "tests failed" "$BUILD/test-$suite.log" && tail -80 "$BUILD/test-$suite.log"
+    done
+  fi
+  echo "tests: $passed passed, $failed failed"
+  return $status
+}
+
+case "${1:-}" in
+  render) shift; cmd_render "$@" ;;
+  test) shift; cmd_test "$@" ;;
+  install) install_packages ;;
+  *) echo "usage: $0 render [options] | test" >&2; exit 2 ;;
+esac
