@@ -1,0 +1,261 @@
+// Integrator tests against analytic optics: slab refraction offset, total internal reflection, IOR 1 invisibility,
+// coloured shadows through two occluders, contribution cutoff and depth cap accounting, feature-driven kernels.
+#include "integrator.h"
+#include "renderer.h"
+#include "scenes.h"
+
+#include <gtest/gtest.h>
+
+using namespace whitted;
+
+namespace {
+
+Material unlit(Color c) {
+  Material m;
+  m.lighting = false;
+  m.ambient = 0.0f;
+  m.diffuse = 1.0f;
+  m.diffuseColor = c;
+  return m;
+}
+
+Material glassMaterial(float ior, Color kt = Color(1.0f), Color kr = Color(0.0f)) {
+  Material m;
+  m.opacity = 0.0f;  // no local colour: only the transmitted / reflected rays contribute
+  m.transmittance = kt;
+  m.reflectance = kr;
+  m.ior = ior;
+  return m;
+}
+
+/// Axis-aligned box mesh with outward-facing triangles.
+TriangleMesh boxMesh(const Vec3& lo, const Vec3& hi) {
+  TriangleMesh m;
+  for (int i = 0; i < 8; ++i)
+    m.positions.push_back(Vec3((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z));
+  const uint32_t f[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (auto& q : f) {
+    m.triangles.push_back({q[0], q[1], q[2]});
+    m.triangles.push_back({q[0], q[2], q[3]});
+  }
+  return m;
+}
+
+uint32_t addObject(Scene& s, TriangleMesh m, const Material& mat, const Mat4& xf = Mat4(1.0)) {
+  return s.addInstance(s.addMesh(std::move(m)), xf, s.addMaterial(mat));
+}
+
+Ray ray(Vec3 o, Vec3 d) {
+  Ray r;
+  r.origin = o;
+  r.dir = glm::normalize(d);
+  return r;
+}
+
+}  // namespace
+
+// A ray through a glass slab exits parallel to itself, shifted sideways by d sin(t) (1 - cos(t) / sqrt(n^2 -
+// sin^2(t))) (perpendicular to the ray). We find where a sharp white/black edge behind the slab appears along a
+// family of parallel rays starting on a horizontal line, with and without the slab, by bisection on the
+// integrator's output; their difference is the lateral offset divided by cos(t).
+TEST(Integrator, SlabLateralOffsetMatchesSnell) {
+  const double thickness = 1.0, n = 1.5, theta = 0.5;  // radians
+  auto edgePosition = [&](bool withSlab) {
+    Scene s;
+    if (withSlab) addObject(s, boxMesh(Vec3(-50, -1.0 - thickness, -50), Vec3(50, -1.0, 50)), glassMaterial(float(n)));
+    // Screen at y = -10: white for x > 0, black for x < 0 (unlit, so the colour is exact)
+    addObject(s, makeGrid(Vec3(0, -10, 50), Vec3(100, 0, 0), Vec3(0, 0, -100), 1, 1), unlit(Color(1.0f)));
+    addObject(s, makeGrid(Vec3(-100, -10, 50), Vec3(100, 0, 0), Vec3(0, 0, -100), 1, 1), unlit(Color(0.0f)));
+    s.background = Color(0.5f);
+    s.commit();
+    IntegratorSettings is;
+    is.contributionThreshold = 0.0f;
+    Integrator integ(s, is, Vec3(0, 1, 0));
+    Vec3 dir(std::sin(theta), -std::cos(theta), 0.0);
+    // Rays start at y = 0 with x = x0; find x0 where the colour switches from black to white
+    double lo = -20.0, hi = 20.0;
+    for (int i = 0; i < 80; ++i) {
+      double mid = 0.5 * (lo + hi);
+      RayStats st;
+      Sample smp = integ.trace(ray(Vec3(mid, 0, 0.25), dir), st);
+      (smp.color.x > 0.5f ? hi : lo) = mid;
+    }
+    return 0.5 * (lo + hi);
+  };
+  double shift = (edgePosition(true) - edgePosition(false)) * std::cos(theta);
+  double st = std::sin(theta), ct = std::cos(theta);
+  double expected = thickness * st * (1.0 - ct / std::sqrt(n * n - st * st));
+  EXPECT_NEAR(shift, expected, 1e-9);
+  EXPECT_GT(shift, 0.1);  // the effect is real, not a degenerate zero
+}
+
+// Inside glass (n = 1.5, critical angle 41.81 degrees) a ray meeting the top face just below the critical angle
+// leaves through it to a red plane above; just above, it is totally reflected down onto a green plane inside.
+TEST(Integrator, TotalInternalReflectionPastCriticalAngle) {
+  const double n = 1.5, critical = std::asin(1.0 / n);
+  Scene s;
+  addObject(s, boxMesh(Vec3(-50, -1, -50), Vec3(50, 1, 50)), glassMaterial(float(n)));
+  addObject(s, makeGrid(Vec3(-100, 5, 100), Vec3(200, 0, 0), Vec3(0, 0, -100 * 2), 1, 1), unlit(Color(1, 0, 0)));
+  addObject(s, makeGrid(Vec3(-40, -0.5, -40), Vec3(80, 0, 0), Vec3(0, 0, 80), 1, 1), unlit(Color(0, 1, 0)));
+  s.commit();
+  IntegratorSettings is;
+  is.maxDepth = 3;
+  is.contributionThreshold = 0.0f;
+  Integrator integ(s, is, Vec3(0, 1, 0));
+  for (double delta : {-1e-3, 1e-3}) {
+    double a = critical + delta;  // angle from the face normal
+    RayStats st;
+    Sample smp = integ.trace(ray(Vec3(0, 0, 0), Vec3(std::sin(a), std::cos(a), 0)), st);
+    if (delta < 0) {
+      EXPECT_GT(smp.color.x, 0.99f) << "below critical: refracted out to the red plane";
+      EXPECT_LT(smp.color.y, 0.01f);
+    } else {
+      EXPECT_GT(smp.color.y, 0.99f) << "past critical: totally reflected down to the green plane";
+      EXPECT_LT(smp.color.x, 0.01f);
+      EXPECT_GE(st.reflection, 1u);
+    }
+  }
+}
+
+// With IOR 1 and kt = 1, a transmissive sphere leaves the image unchanged; with kt = 0.5 what is behind is seen
+// through two crossings (in and out), so it is scaled by 0.25.
+TEST(Integrator, IorOneIsInvisibleApartFromKt) {
+  auto renderWith = [](int mode) {
+    Scene s;
+    Color4 c0(1, 1, 1, 1), c1(0.2f, 0.3f, 0.9f, 1);
+    Material floor = unlit(Color(1.0f));
+    floor.colorSource = ColorSource::ScalarsAmbientAndDiffuse;
+    addObject(s, makeGrid(Vec3(-4, -4, -2), Vec3(8, 0, 0), Vec3(0, 8, 0), 8, 8, &c0, &c1), floor);
+    if (mode > 0) {
+      SphereSet sp;
+      sp.centers = {Vec3(0.3, 0.1, 0.0)};
+      sp.radii = {1.2};
+      s.addInstance(s.addSpheres(sp), Mat4(1.0), s.addMaterial(glassMaterial(1.0f, Color(mode == 1 ? 1.0f : 0.5f))));
+    }
+    s.commit();
+    Camera cam = Camera::perspective(Vec3(0, 0, 6), Vec3(0), Vec3(0, 1, 0), 40.0, 1.0, 0.1, 100.0);
+    RenderSettings rs;
+    rs.integrator.contributionThreshold = 0.0f;
+    FrameBuffer fb;
+    render(s, cam, rs, 64, 64, fb);
+    return fb;
+  };
+  FrameBuffer none = renderWith(0), clear = renderWith(1), half = renderWith(2);
+  int covered = 0;
+  for (std::size_t i = 0; i < none.color.size(); ++i) {
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(clear.color[i][c], none.color[i][c], 1e-6f) << i;
+    bool insideSphere = std::abs(half.color[i].x - none.color[i].x) > 1e-4f;
+    if (insideSphere) {
+      ++covered;
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(half.color[i][c], 0.25f * none.color[i][c], 1e-6f) << i;
+    }
+  }
+  EXPECT_GT(covered, 300);
+}
+
+// A point on the floor lit through two transmissive plates receives the light times kt1 * kt2 (coloured shadow).
+TEST(Integrator, ShadowThroughTwoTransmissiveOccluders) {
+  auto floorColor = [](bool plates) {
+    Scene s;
+    Material floor;
+    floor.ambient = 0.0f;
+    floor.diffuse = 1.0f;
+    addObject(s, makeGrid(Vec3(-10, 0, 10), Vec3(20, 0, 0), Vec3(0, 0, -20), 1, 1), floor);
+    if (plates) {
+      Material p1 = glassMaterial(1.0f, Color(0.5f, 1.0f, 0.8f)), p2 = glassMaterial(1.0f, Color(1.0f, 0.5f, 0.8f));
+      addObject(s, makeGrid(Vec3(-1, 2, 1), Vec3(2, 0, 0), Vec3(0, 0, -2), 1, 1), p1);
+      addObject(s, makeGrid(Vec3(-1, 3, 1), Vec3(2, 0, 0), Vec3(0, 0, -2), 1, 1), p2);
+    }
+    Light l;
+    l.positional = true;
+    l.position = Vec3(0, 10, 0);
+    l.coneAngle = 180.0;
+    s.lights().push_back(l);
+    s.commit();
+    Integrator integ(s, IntegratorSettings{}, Vec3(0, 1, 0));
+    RayStats st;
+    // Look straight down at the floor point under the plates, from between plate 1 and the floor
+    return integ.trace(ray(Vec3(0.01, 1.0, 0.01), Vec3(0, -1, 0)), st).color;
+  };
+  Color open = floorColor(false), shadowed = floorColor(true);
+  ASSERT_GT(open.x, 0.5f);
+  EXPECT_NEAR(shadowed.x / open.x, 0.5f, 1e-5f);
+  EXPECT_NEAR(shadowed.y / open.y, 0.5f, 1e-5f);
+  EXPECT_NEAR(shadowed.z / open.z, 0.64f, 1e-5f);
+}
+
+// Two facing mirrors with kr = 0.5: path weights 0.5^k. With threshold 0.1 the 4th bounce (0.0625) is not traced
+// and is counted as saved; with kr = 1 the depth cap ends the recursion and is counted.
+TEST(Integrator, ContributionCutoffAndDepthCapCountSavedRays) {
+  for (float kr : {0.5f, 1.0f}) {
+    Scene s;
+    Material mirror;
+    mirror.reflectance = Color(kr);
+    addObject(s, makeGrid(Vec3(-5, -5, -1), Vec3(10, 0, 0), Vec3(0, 10, 0), 1, 1), mirror);
+    addObject(s, makeGrid(Vec3(-5, -5, 1), Vec3(0, 10, 0), Vec3(10, 0, 0), 1, 1), mirror);
+    s.background = Color(0.2f);  // something the left-out rays could have seen
+    s.commit();
+    IntegratorSettings is;
+    is.maxDepth = 6;
+    is.contributionThreshold = 0.1f;
+    Integrator integ(s, is, Vec3(0, 1, 0));
+    RayStats st;
+    Sample smp = integ.trace(ray(Vec3(0, 0, 0), Vec3(0, 0.01, -1)), st);
+    if (kr == 0.5f) {
+      EXPECT_EQ(st.reflection, 3u);
+      EXPECT_EQ(st.savedByThreshold, 1u);
+      EXPECT_EQ(st.savedByDepth, 0u);
+    } else {
+      EXPECT_EQ(st.reflection, 6u);
+      EXPECT_EQ(st.savedByDepth, 1u);
+      EXPECT_GT(smp.errorBound, 0.0f);
+    }
+  }
+}
+
+// An opaque scene runs a kernel without reflection/refraction machinery and traces no secondary rays.
+TEST(Integrator, OpaqueSceneLeavesOutSecondaryMachinery) {
+  Scene s;
+  CameraSpec cs;
+  buildClassicScene(s, cs);
+  s.material(1).reflectance = Color(0.0f);
+  s.material(2).transmittance = Color(0.0f);
+  s.material(2).reflectance = Color(0.0f);
+  s.commit();
+  EXPECT_FALSE(s.features().reflective);
+  EXPECT_FALSE(s.features().transmissive);
+  RenderSettings rs;
+  FrameBuffer fb;
+  FrameStats fs = render(s, cs.make(1.0, s.bounds()), rs, 48, 48, fb);
+  EXPECT_FALSE(fs.kernelReflection);
+  EXPECT_FALSE(fs.kernelRefraction);
+  EXPECT_TRUE(fs.kernelShadows);
+  EXPECT_EQ(fs.rays.reflection + fs.rays.refraction, 0u);
+  EXPECT_GT(fs.rays.shadow, 0u);
+}
+
+// The per-frame error estimate bounds the real difference to a deep, cutoff-free reference at every pixel.
+TEST(Integrator, ErrorEstimateBoundsTrueError) {
+  Scene s;
+  CameraSpec cs;
+  buildClassicScene(s, cs);
+  s.commit();
+  Camera cam = cs.make(4.0 / 3.0, s.bounds());
+  RenderSettings ref, cheap;
+  ref.integrator.maxDepth = 24;
+  ref.integrator.contributionThreshold = 0.0f;
+  cheap.integrator.maxDepth = 2;
+  cheap.integrator.contributionThreshold = 0.05f;
+  FrameBuffer a, b;
+  render(s, cam, ref, 80, 60, a);
+  FrameStats fs = render(s, cam, cheap, 80, 60, b);
+  double err2 = 0.0;
+  for (std::size_t i = 0; i < a.color.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      double d = std::abs(std::min(1.0f, a.color[i][c]) - std::min(1.0f, b.color[i][c]));
+      err2 += d * d / 3.0;
+    }
+  double rms = std::sqrt(err2 / double(a.color.size()));
+  EXPECT_GT(rms, 1e-3);  // the cheap settings really do lose something
+  EXPECT_GE(fs.errorEstimateRms, rms);
+}

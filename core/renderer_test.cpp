@@ -1,0 +1,184 @@
+// Renderer and camera tests: identical output for any thread count, depth = projected depth, adaptive sampling,
+// image split between processes, abort, camera round trips.
+#include "image.h"
+#include "renderer.h"
+#include "scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+using namespace whitted;
+
+namespace {
+struct Classic {
+  Scene scene;
+  CameraSpec cs;
+  Classic() {
+    buildClassicScene(scene, cs);
+    scene.commit();
+  }
+};
+}  // namespace
+
+TEST(Renderer, BitIdenticalForAnyThreadCount) {
+  Classic c;
+  Camera cam = c.cs.make(1.0, c.scene.bounds());
+  RenderSettings rs;
+  rs.samplesPerPixel = 4;
+  rs.adaptive = true;
+  rs.tileSize = 8;
+  FrameBuffer ref;
+  rs.threads = 1;
+  FrameStats s1 = render(c.scene, cam, rs, 70, 50, ref);
+  for (int t : {2, 3, 7}) {
+    rs.threads = t;
+    FrameBuffer fb;
+    FrameStats st = render(c.scene, cam, rs, 70, 50, fb);
+    ASSERT_EQ(0, std::memcmp(ref.color.data(), fb.color.data(), ref.color.size() * sizeof(Color4))) << t;
+    ASSERT_EQ(0, std::memcmp(ref.depth.data(), fb.depth.data(), ref.depth.size() * sizeof(float))) << t;
+    EXPECT_EQ(st.rays.traced(), s1.rays.traced());
+    EXPECT_EQ(st.rays.savedByThreshold, s1.rays.savedByThreshold);
+    EXPECT_EQ(st.errorEstimateRms, s1.errorEstimateRms);
+  }
+}
+
+// A plane facing the camera at eye distance z has OpenGL depth 0.5 * z_ndc + 0.5 with
+// z_ndc = (f + n) / (f - n) - 2 f n / ((f - n) z).
+TEST(Renderer, DepthIsOpenGLDepthOfTheProjection) {
+  Scene s;
+  const double z = 7.25, n = 0.5, f = 40.0;
+  s.addInstance(s.addMesh(makeGrid(Vec3(-50, -50, -z), Vec3(100, 0, 0), Vec3(0, 100, 0), 1, 1)), Mat4(1.0),
+                s.addMaterial(Material{}));
+  s.commit();
+  for (bool parallel : {false, true}) {
+    Camera cam = parallel ? Camera::parallel(Vec3(0), Vec3(0, 0, -1), Vec3(0, 1, 0), 3.0, 1.5, n, f)
+                          : Camera::perspective(Vec3(0), Vec3(0, 0, -1), Vec3(0, 1, 0), 50.0, 1.5, n, f);
+    FrameBuffer fb;
+    render(s, cam, RenderSettings{}, 30, 20, fb);
+    double zNdc = parallel ? (-2.0 / (f - n)) * (-z) - (f + n) / (f - n) : (f + n) / (f - n) - 2.0 * f * n / ((f - n) * z);
+    double expected = 0.5 * zNdc + 0.5;
+    for (float d : fb.depth) EXPECT_NEAR(d, expected, 1e-6) << (parallel ? "parallel" : "perspective");
+  }
+}
+
+TEST(Renderer, MissesGetDepthOneAndBackgroundAlpha) {
+  Scene s;
+  s.background = Color(0.1f, 0.2f, 0.3f);
+  s.backgroundAlpha = 0.0f;
+  s.commit();
+  FrameBuffer fb;
+  render(s, Camera::perspective(Vec3(0, 0, 5), Vec3(0), Vec3(0, 1, 0), 30, 1, 0.1, 10), RenderSettings{}, 8, 8, fb);
+  for (std::size_t i = 0; i < fb.color.size(); ++i) {
+    EXPECT_EQ(fb.depth[i], 1.0f);
+    EXPECT_EQ(fb.color[i].a, 0.0f);
+    EXPECT_FLOAT_EQ(fb.color[i].z, 0.3f);
+  }
+}
+
+TEST(Renderer, AdaptiveSamplesOnlyWhereNeighboursDiffer) {
+  Classic c;
+  Camera cam = c.cs.make(1.0, c.scene.bounds());
+  RenderSettings full, adaptive;
+  full.samplesPerPixel = adaptive.samplesPerPixel = 9;
+  adaptive.adaptive = true;
+  FrameBuffer a, b;
+  FrameStats fa = render(c.scene, cam, full, 160, 160, a);
+  FrameStats fb = render(c.scene, cam, adaptive, 160, 160, b);
+  EXPECT_EQ(fa.samples, 160u * 160u * 9u);
+  EXPECT_LT(fb.samples, fa.samples / 2);   // most pixels are smooth
+  EXPECT_GT(fb.pixelsSupersampled, 100u);  // edges are refined
+  double err = 0.0;
+  for (std::size_t i = 0; i < a.color.size(); ++i) err += std::abs(a.color[i].x - b.color[i].x);
+  EXPECT_LT(err / double(a.color.size()), 0.01);
+}
+
+// Two processes each tracing every other tile assemble, by depth, exactly the single-process image.
+TEST(Renderer, ImageSplitComposesToFullImage) {
+  Classic c;
+  Camera cam = c.cs.make(1.0, c.scene.bounds());
+  RenderSettings rs;
+  rs.tileSize = 8;
+  FrameBuffer full, part[2];
+  render(c.scene, cam, rs, 40, 40, full);
+  for (int r = 0; r < 2; ++r) {
+    rs.tileStride = 2;
+    rs.tileOffset = r;
+    render(c.scene, cam, rs, 40, 40, part[r]);
+  }
+  int fromEach[2] = {0, 0};
+  for (std::size_t i = 0; i < full.color.size(); ++i) {
+    int owner = part[0].traced[i] ? 0 : 1;
+    ASSERT_NE(part[0].traced[i], part[1].traced[i]);
+    ++fromEach[owner];
+    EXPECT_EQ(part[1 - owner].depth[i], 1.0f);
+    EXPECT_EQ(part[1 - owner].color[i].a, 0.0f);
+    EXPECT_EQ(part[owner].color[i], full.color[i]);
+    EXPECT_EQ(part[owner].depth[i], full.depth[i]);
+  }
+  EXPECT_GT(fromEach[0], 600);
+  EXPECT_GT(fromEach[1], 600);
+}
+
+// An abort mid-frame stops the frame; the next frame is complete and equal to an uninterrupted one.
+TEST(Renderer, AbortThenRenderAgainGivesTheRightImage) {
+  Classic c;
+  Camera cam = c.cs.make(1.0, c.scene.bounds());
+  RenderSettings rs;
+  rs.tileSize = 4;
+  rs.threads = 2;
+  int calls = 0;
+  rs.abortCheck = [&] { return ++calls >= 3; };
+  FrameBuffer aborted;
+  FrameStats fa = render(c.scene, cam, rs, 64, 64, aborted);
+  EXPECT_TRUE(fa.aborted);
+  EXPECT_LT(fa.rays.primary, 64u * 64u);
+  rs.abortCheck = nullptr;
+  FrameBuffer again, ref;
+  render(c.scene, cam, rs, 64, 64, again);
+  rs.threads = 1;
+  render(c.scene, cam, rs, 64, 64, ref);
+  EXPECT_EQ(0, std::memcmp(again.color.data(), ref.color.data(), ref.color.size() * sizeof(Color4)));
+}
+
+TEST(Camera, RaysReprojectToTheirPixels) {
+  for (bool parallel : {false, true}) {
+    Vec3 eye(1e7 + 3.0, 2.0, -5.0), focal(1e7, 0.5, 0.0);
+    Camera cam = parallel ? Camera::parallel(eye, focal, Vec3(0, 1, 0), 2.0, 1.25, 0.1, 50.0)
+                          : Camera::perspective(eye, focal, Vec3(0, 1, 0), 35.0, 1.25, 0.1, 50.0);
+    for (double px : {0.5, 17.25, 99.5})
+      for (double py : {0.5, 40.0, 79.5}) {
+        Ray r = cam.rayPixel(px, py, 100, 80);
+        EXPECT_NEAR(glm::length(r.dir), 1.0, 1e-12);
+        Vec3 p = r.origin + 3.0 * r.dir;
+        Vec4 clip = cam.worldToClip() * Vec4(p, 1.0);
+        // 1e-5 pixel: the camera sits 1e7 units from the origin, where a double has ~2e-9 absolute resolution and
+        // the inverse projection amplifies it ~20x; a float pipeline would be off by whole pixels here
+        EXPECT_NEAR((clip.x / clip.w * 0.5 + 0.5) * 100, px, 1e-5);
+        EXPECT_NEAR((clip.y / clip.w * 0.5 + 0.5) * 80, py, 1e-5);
+        EXPECT_NEAR(cam.glDepth(r.origin), 0.0, 1e-6);  // rays start on the near plane
+      }
+  }
+}
+
+TEST(Image, PngRoundTripHeaderAndCrc) {
+  const uint8_t ihdr[] = {'I', 'E', 'N', 'D'};
+  EXPECT_EQ(crc32(ihdr, 4), 0xAE426082u);  // the well-known CRC of an empty IEND chunk
+  FrameBuffer fb;
+  fb.resize(3, 2);
+  fb.color[0] = Color4(2.0f, -1.0f, std::nanf(""), 0.5f);
+  auto px = toRgba8(fb);
+  EXPECT_EQ(px[0], 255);
+  EXPECT_EQ(px[1], 0);
+  EXPECT_EQ(px[2], 0);
+  EXPECT_EQ(px[3], 128);
+  std::string path = ::testing::TempDir() + "/t.png";
+  ASSERT_TRUE(writePng(path, 3, 2, px));
+  FILE* f = std::fopen(path.c_str(), "rb");
+  ASSERT_TRUE(f);
+  unsigned char sig[8];
+  ASSERT_EQ(std::fread(sig, 1, 8, f), 8u);
+  std::fclose(f);
+  EXPECT_EQ(sig[1], 'P');
+  EXPECT_EQ(sig[2], 'N');
+}
