@@ -304,7 +304,13 @@ SceneStats Scene::stats() const {
 
 // Queries ---------------------------------------------------------------------------------------------------
 
-bool Scene::intersectObject(const Object& o, const Ray& ray, double& tMax, Hit& hit, uint64_t* nodes) const {
+bool Scene::intersectObject(const Object& o, uint32_t instance, const Ray& ray, double& tMax, Hit& hit,
+                            uint64_t* nodes) const {
+  // Hits within kTieRelative * t of the best one count as the same distance: the lower (instance, primitive) wins,
+  // as the first-drawn surface wins OpenGL's depth test, so coplanar overlapping surfaces never speckle.
+  // Performance note: the traversal bound is widened by the same tolerance so tying candidates are not culled.
+  constexpr double kTieRelative = 1e-10;
+  const double tLimit = ray.tMax;
   return o.bvh.traverse<false>(
       ray, tMax,
       [&](uint32_t first, uint32_t count, double& tm) {
@@ -331,12 +337,20 @@ bool Scene::intersectObject(const Object& o, const Ray& ray, double& tMax, Hit& 
             }
           }
           if (h) {
-            tm = h->t;
-            hit.t = h->t;
-            hit.prim = o.leafPrims[s];
-            hit.u = h->u;
-            hit.v = h->v;
-            found = true;
+            uint32_t prim = o.leafPrims[s];
+            double tie = kTieRelative * std::abs(hit.t);
+            bool better = !(h->t >= hit.t - tie);  // clearly closer (or the first hit)
+            if (!better && h->t <= hit.t + tie)
+              better = instance < hit.instance || (instance == hit.instance && prim < hit.prim);
+            if (better) {
+              hit.t = h->t;
+              hit.instance = instance;
+              hit.prim = prim;
+              hit.u = h->u;
+              hit.v = h->v;
+              tm = std::min(tLimit, hit.t + kTieRelative * std::abs(hit.t));
+              found = true;
+            }
           }
         }
         return found;
@@ -345,6 +359,7 @@ bool Scene::intersectObject(const Object& o, const Ray& ray, double& tMax, Hit& 
 }
 
 bool Scene::intersect(const Ray& ray, Hit& hit, uint64_t* nodes) const {
+  hit = Hit{};
   double tMax = ray.tMax;
   bool found = top_.traverse<false>(
       ray, tMax,
@@ -359,10 +374,7 @@ bool Scene::intersect(const Ray& ray, Hit& hit, uint64_t* nodes) const {
             r.dir = transformVector(in.toObject, ray.dir);
           }
           r.tMax = tm;
-          if (intersectObject(objects_[in.object], r, tm, hit, nodes)) {
-            hit.instance = id;
-            any = true;
-          }
+          if (intersectObject(objects_[in.object], id, r, tm, hit, nodes)) any = true;
         }
         return any;
       },

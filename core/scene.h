@@ -125,7 +125,8 @@ class Scene {
   /// Largest kr + kt component over visible materials (for recursion error bounds).
   float maxSecondaryWeight() const { return maxSecondary_; }
 
-  /// Closest hit along ray in (tMin, tMax). nodes, if given, counts visited BVH nodes.
+  /// Closest hit along ray in (tMin, tMax); among hits at the same distance (within 1e-10 relative) the lowest
+  /// (instance, primitive) wins. nodes, if given, counts visited BVH nodes.
   bool intersect(const Ray& ray, Hit& hit, uint64_t* nodes = nullptr) const;
 
   /// Transmittance along a shadow ray over (tMin, tMax): zero if an opaque surface blocks it, otherwise the
@@ -158,7 +159,8 @@ class Scene {
   };
 
   void rebuildObject(Object& o, CommitStats& st);
-  bool intersectObject(const Object& o, const Ray& ray, double& tMax, Hit& hit, uint64_t* nodes) const;
+  bool intersectObject(const Object& o, uint32_t instance, const Ray& ray, double& tMax, Hit& hit,
+                       uint64_t* nodes) const;
   template <typename Fn>
   void forEachVisibleInstance(Fn&& fn) const;
 
