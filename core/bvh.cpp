@@ -8,15 +8,24 @@ namespace whitted {
 
 namespace {
 
+// Node bounds are stored as floats stepped one ulp outward (always, not only when rounding went inward), so a
+// ray grazing a face with a tiny slope still enters the node.
 float roundDown(double x) {
   float f = static_cast<float>(x);
-  if (double(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  if (double(f) > x || double(f) == x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
   return f;
 }
 float roundUp(double x) {
   float f = static_cast<float>(x);
-  if (double(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  if (double(f) < x || double(f) == x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
   return f;
+}
+
+/// Bin of a centroid coordinate; robust to NaN and to out-of-range products (huge or denormal extents).
+int binIndex(double c, double lo, double scale, int nb) {
+  double f = (c - lo) * scale;
+  if (!(f > 0.0)) return 0;  // also catches NaN
+  return f < double(nb) ? int(f) : nb - 1;
 }
 
 struct Builder {
@@ -58,12 +67,12 @@ struct Builder {
     Vec3 cext = cbox.extent();
     if (depth < Bvh::kSahDepthLimit) {
       for (int axis = 0; axis < 3; ++axis) {
-        if (!(cext[axis] > 0.0)) continue;
+        if (!(cext[axis] > 0.0) || !std::isfinite(cext[axis]) || !std::isfinite(nb / cext[axis])) continue;
         std::vector<Bounds3> binBox(nb);
         std::vector<uint32_t> binCount(nb, 0);
         double scale = nb / cext[axis];
         for (uint32_t i = begin; i < end; ++i) {
-          int b = std::min(nb - 1, int((centroids[idx[i]][axis] - cbox.lo[axis]) * scale));
+          int b = binIndex(centroids[idx[i]][axis], cbox.lo[axis], scale, nb);
           binBox[b].extend(boxes[idx[i]]);
           ++binCount[b];
         }
@@ -99,7 +108,7 @@ struct Builder {
     if (bestAxis >= 0 && (splitCost < leafCost || count > uint32_t(opt.maxLeafSize))) {
       double scale = nb / cext[bestAxis];
       auto it = std::partition(idx.begin() + begin, idx.begin() + end, [&](uint32_t p) {
-        int b = std::min(nb - 1, int((centroids[p][bestAxis] - cbox.lo[bestAxis]) * scale));
+        int b = binIndex(centroids[p][bestAxis], cbox.lo[bestAxis], scale, nb);
         return b <= bestBin;
       });
       mid = uint32_t(it - idx.begin());

@@ -31,9 +31,11 @@ struct RayTraversal {
   Vec3 invDir;
   explicit RayTraversal(const Ray& r) : origin(r.origin) {
     for (int i = 0; i < 3; ++i) {
-      // A zero component becomes a huge finite reciprocal so (lo - o) * inv never forms 0 * inf = NaN
-      double d = r.dir[i] != 0.0 ? r.dir[i] : std::copysign(1e-300, r.dir[i]);
-      invDir[i] = 1.0 / d;
+      // Slopes below 1e-290 (incl. denormals, whose reciprocal overflows) are treated as parallel: the reciprocal
+      // is +-inf, and slab() ignores the NaN that 0 * inf gives for an origin exactly on a face plane, so such a
+      // ray is kept (conservative) while a parallel ray outside the slab gets +-inf and is rejected.
+      double d = std::abs(r.dir[i]) < 1e-290 ? std::copysign(0.0, r.dir[i]) : r.dir[i];
+      invDir[i] = d != 0.0 ? 1.0 / d : std::copysign(kInfinity, d);
     }
   }
 };
@@ -108,7 +110,7 @@ class Bvh {
     for (int i = 0; i < 3; ++i) {
       double a = (double(n.lo[i]) - r.origin[i]) * r.invDir[i];
       double b = (double(n.hi[i]) - r.origin[i]) * r.invDir[i];
-      if (a > b) std::swap(a, b);
+      if (a > b) std::swap(a, b);  // NaN compares false: that axis then leaves [t0, t1] unchanged
       // Widen the far distance by the rounding bound so the test stays conservative (pbrt-v4)
       b *= 1.0 + 2.0 * gammaBound(3);
       t0 = a > t0 ? a : t0;

@@ -153,7 +153,10 @@ class FrameJob {
         samples += n;
         if (refineOnly) ++refined;
         float inv = 1.0f / float(n);
-        fb_.color[idx] = Color4(sum * inv, alpha * inv);
+        Color4 out(sum * inv, alpha * inv);
+        for (int k = 0; k < 4; ++k)
+          if (!std::isfinite(out[k])) out[k] = 0.0f;  // last line of defence: never a non-finite pixel
+        fb_.color[idx] = out;
         fb_.depth[idx] = depth;
         fb_.traced[idx] = 1;
         error_[idx] = std::min(1.0f, err * inv);

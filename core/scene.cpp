@@ -98,6 +98,17 @@ void Scene::rebuildObject(Object& o, CommitStats& st) {
     o.bounds.extend(b);
   };
 
+  // Colours outside [0,1] or non-finite are clamped (alpha NaN -> 1) so no NaN can reach shading
+  auto fixColors = [](std::vector<Color4>& cs) {
+    for (Color4& c : cs)
+      for (int k = 0; k < 4; ++k) c[k] = std::isfinite(c[k]) ? std::clamp(c[k], 0.0f, 1.0f) : (k == 3 ? 1.0f : 0.0f);
+  };
+  fixColors(o.mesh.vertexColors);
+  fixColors(o.mesh.triangleColors);
+  fixColors(o.spheres.colors);
+  fixColors(o.capsules.colors0);
+  fixColors(o.capsules.colors1);
+
   // Boxes of valid primitives; non-finite and degenerate ones are left out of the BVH
   if (o.type == GeometryType::Triangles) {
     const auto& m = o.mesh;
@@ -245,6 +256,39 @@ CommitStats Scene::commit() {
     st.topLevelRebuilt = true;
   }
   st.secondsBuild = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  // Sanitise what shading reads, so no input can produce a NaN pixel (cheap: once per material and light)
+  for (Material& m : materials_) st.invalidMaterials += sanitizeMaterial(m) != 0;
+  auto fixColor = [](Color& c) {
+    bool bad = false;
+    for (int k = 0; k < 3; ++k)
+      if (!std::isfinite(c[k]) || c[k] < 0.0f || c[k] > 1e6f) {
+        c[k] = std::isfinite(c[k]) ? std::clamp(c[k], 0.0f, 1e6f) : 0.0f;
+        bad = true;
+      }
+    return bad;
+  };
+  fixColor(background);
+  fixColor(background2);
+  if (!std::isfinite(backgroundAlpha)) backgroundAlpha = 1.0f;
+  backgroundAlpha = std::clamp(backgroundAlpha, 0.0f, 1.0f);
+  for (Light& l : lights_) {
+    bool bad = fixColor(l.color);
+    if (!std::isfinite(l.intensity) || l.intensity < 0.0f || l.intensity > 1e6f) {
+      l.intensity = std::isfinite(l.intensity) ? std::clamp(l.intensity, 0.0f, 1e6f) : 0.0f;
+      bad = true;
+    }
+    if (!isFinite(l.position) || !isFinite(l.focalPoint) || !isFinite(l.attenuation) || !std::isfinite(l.coneAngle) ||
+        !std::isfinite(l.exponent)) {
+      l.intensity = 0.0f;  // cannot be placed: switched off
+      bad = true;
+    }
+    if (l.attenuation.x < 0.0 || l.attenuation.y < 0.0 || l.attenuation.z < 0.0) {
+      l.attenuation = glm::max(l.attenuation, Vec3(0.0));
+      bad = true;
+    }
+    st.invalidLights += bad;
+  }
 
   // Features and radiance bounds (cheap: once per instance and light)
   features_ = Features{};

@@ -55,6 +55,8 @@ struct CommitStats {
   bool topLevelRebuilt = false;
   double secondsBuild = 0.0;   ///< Wall time of all BVH builds in this commit.
   std::size_t invalidPrimitives = 0;  ///< Primitives skipped (non-finite or degenerate) in rebuilt objects.
+  std::size_t invalidMaterials = 0;   ///< Materials with values clamped by sanitizeMaterial.
+  std::size_t invalidLights = 0;      ///< Lights with non-finite or negative values (clamped or switched off).
 };
 
 /// Totals over the scene, for the frame report.
@@ -114,7 +116,8 @@ class Scene {
   Color environment(const Vec3& d, const Vec3& up) const;
 
   // Commit and queries ------------------------------------------------------------------------------------
-  /// Rebuilds dirty object BVHs and, if needed, the top-level BVH; detects features.
+  /// Rebuilds dirty object BVHs and, if needed, the top-level BVH; detects features. Sanitises materials, lights
+  /// and background in place (non-finite values replaced, ranges clamped) so no input can produce a NaN pixel.
   CommitStats commit();
   const Features& features() const { return features_; }
   SceneStats stats() const;
