@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <numeric>
+#include <thread>
 
 namespace whitted {
 
@@ -27,6 +28,10 @@ int binIndex(double c, double lo, double scale, int nb) {
   if (!(f > 0.0)) return 0;  // also catches NaN
   return f < double(nb) ? int(f) : nb - 1;
 }
+
+constexpr int kMaxBins = 32;
+constexpr uint32_t kParallelMin = 65536;  // primitives below which a subtree is built on the current thread
+constexpr int kParallelDepth = 2;         // levels that fork: up to 4 concurrent builders
 
 struct Builder {
   const std::vector<Bounds3>& boxes;
@@ -61,15 +66,15 @@ struct Builder {
     if (count <= 1) return makeLeaf(node, begin, end);
 
     // Binned SAH over all three axes
-    const int nb = std::max(2, opt.bins);
+    const int nb = std::clamp(opt.bins, 2, kMaxBins);
     int bestAxis = -1, bestBin = 0;
     double bestCost = kInfinity;
     Vec3 cext = cbox.extent();
     if (depth < Bvh::kSahDepthLimit) {
       for (int axis = 0; axis < 3; ++axis) {
         if (!(cext[axis] > 0.0) || !std::isfinite(cext[axis]) || !std::isfinite(nb / cext[axis])) continue;
-        std::vector<Bounds3> binBox(nb);
-        std::vector<uint32_t> binCount(nb, 0);
+        std::array<Bounds3, kMaxBins> binBox;
+        std::array<uint32_t, kMaxBins> binCount{};
         double scale = nb / cext[axis];
         for (uint32_t i = begin; i < end; ++i) {
           int b = binIndex(centroids[idx[i]][axis], cbox.lo[axis], scale, nb);
@@ -77,7 +82,7 @@ struct Builder {
           ++binCount[b];
         }
         // Sweep from the right, then from the left
-        std::vector<double> rightCost(nb, 0.0);
+        std::array<double, kMaxBins> rightCost{};
         Bounds3 acc;
         uint32_t n = 0;
         for (int b = nb - 1; b > 0; --b) {
@@ -128,8 +133,32 @@ struct Builder {
     nodes.push_back({});
     nodes[node].first = left;
     nodes[node].count = 0;
-    split(left, begin, mid, depth + 1);
-    split(left + 1, mid, end, depth + 1);
+    // Large subtrees build in parallel (each in its own node array, spliced in afterwards)
+    if (count >= kParallelMin && depth <= kParallelDepth) {
+      std::vector<BvhNode> rightNodes(1);
+      Builder rightBuilder{boxes, centroids, opt, rightNodes, idx};
+      std::thread worker([&] { rightBuilder.split(0, mid, end, depth + 1); });
+      split(left, begin, mid, depth + 1);
+      worker.join();
+      splice(left + 1, rightNodes);
+      maxDepth = std::max(maxDepth, rightBuilder.maxDepth);
+    } else {
+      split(left, begin, mid, depth + 1);
+      split(left + 1, mid, end, depth + 1);
+    }
+  }
+
+  // Copies a subtree built in its own array (root at 0) to slot `at`, re-basing child indices.
+  void splice(uint32_t at, const std::vector<BvhNode>& sub) {
+    uint32_t base = uint32_t(nodes.size()) - 1;  // sub[i] (i >= 1) goes to base + i
+    for (std::size_t i = 1; i < sub.size(); ++i) {
+      BvhNode n = sub[i];
+      if (n.count == 0) n.first += base;
+      nodes.push_back(n);
+    }
+    BvhNode root = sub[0];
+    if (root.count == 0) root.first += base;
+    nodes[at] = root;
   }
 };
 

@@ -9,19 +9,21 @@
 
 using namespace whitted;
 
-TEST(Bvh, NodesContainChildrenAndEveryPrimitiveOnce) {
-  std::mt19937 rng(1);
+namespace {
+
+std::vector<Bounds3> randomBoxes(int n, unsigned seed) {
+  std::mt19937 rng(seed);
   std::uniform_real_distribution<double> U(-10, 10);
   std::vector<Bounds3> boxes;
-  std::vector<Vec3> cents;
-  for (int i = 0; i < 5000; ++i) {
+  for (int i = 0; i < n; ++i) {
     Vec3 c(U(rng), U(rng), U(rng));
-    Bounds3 b{c - Vec3(0.1), c + Vec3(0.2)};
-    boxes.push_back(b);
-    cents.push_back(b.center());
+    boxes.push_back(Bounds3{c - Vec3(0.1), c + Vec3(0.2)});
   }
-  Bvh bvh;
-  bvh.build(boxes, cents);
+  return boxes;
+}
+
+/// Every node contains its children / primitives, every primitive is in exactly one leaf, children are in range.
+void checkInvariants(const Bvh& bvh, const std::vector<Bounds3>& boxes) {
   std::vector<int> seen(boxes.size(), 0);
   const auto& nodes = bvh.nodes();
   for (const BvhNode& n : nodes) {
@@ -30,20 +32,43 @@ TEST(Bvh, NodesContainChildrenAndEveryPrimitiveOnce) {
         uint32_t p = bvh.primIndices()[i];
         ++seen[p];
         for (int a = 0; a < 3; ++a) {
-          EXPECT_LE(n.lo[a], boxes[p].lo[a]);
-          EXPECT_GE(n.hi[a], boxes[p].hi[a]);
+          ASSERT_LE(n.lo[a], boxes[p].lo[a]);
+          ASSERT_GE(n.hi[a], boxes[p].hi[a]);
         }
       }
     } else {
+      ASSERT_LT(n.first + 1, nodes.size());
       for (uint32_t c = n.first; c < n.first + 2; ++c)
         for (int a = 0; a < 3; ++a) {
-          EXPECT_LE(n.lo[a], nodes[c].lo[a]);
-          EXPECT_GE(n.hi[a], nodes[c].hi[a]);
+          ASSERT_LE(n.lo[a], nodes[c].lo[a]);
+          ASSERT_GE(n.hi[a], nodes[c].hi[a]);
         }
     }
   }
-  for (int s : seen) EXPECT_EQ(s, 1);
+  for (int s : seen) ASSERT_EQ(s, 1);
   EXPECT_LT(bvh.depth(), Bvh::kStackSize);
+  EXPECT_EQ(nodes.size() % 2, 1u);  // binary tree: 2 * leaves - 1 nodes
+}
+
+}  // namespace
+
+TEST(Bvh, NodesContainChildrenAndEveryPrimitiveOnce) {
+  auto boxes = randomBoxes(5000, 1);
+  std::vector<Vec3> cents;
+  for (auto& b : boxes) cents.push_back(b.center());
+  Bvh bvh;
+  bvh.build(boxes, cents);
+  checkInvariants(bvh, boxes);
+}
+
+// Above 65536 primitives the top levels are built by parallel threads and spliced together.
+TEST(Bvh, ParallelBuildKeepsInvariants) {
+  auto boxes = randomBoxes(300000, 2);
+  std::vector<Vec3> cents;
+  for (auto& b : boxes) cents.push_back(b.center());
+  Bvh bvh;
+  bvh.build(boxes, cents);
+  checkInvariants(bvh, boxes);
 }
 
 TEST(Bvh, CoincidentCentroidsStillSplit) {

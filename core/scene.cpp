@@ -357,7 +357,7 @@ bool Scene::intersectObject(const Object& o, uint32_t instance, const Ray& ray, 
   const double tLimit = ray.tMax;
   return o.bvh.traverse<false>(
       ray, tMax,
-      [&](uint32_t first, uint32_t count, double& tm) {
+      [&, tr = TriangleRay(ray)](uint32_t first, uint32_t count, double& tm) {
         Ray r = ray;
         bool found = false;
         for (uint32_t s = first; s < first + count; ++s) {
@@ -366,7 +366,7 @@ bool Scene::intersectObject(const Object& o, uint32_t instance, const Ray& ray, 
           switch (o.type) {
             case GeometryType::Triangles: {
               const glm::uvec3& t = o.leafTris[s];
-              h = intersectTriangle(r, o.mesh.positions[t.x], o.mesh.positions[t.y], o.mesh.positions[t.z]);
+              h = intersectTriangle(r, tr, o.mesh.positions[t.x], o.mesh.positions[t.y], o.mesh.positions[t.z]);
               break;
             }
             case GeometryType::Spheres: {
@@ -443,6 +443,7 @@ Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes) const 
             r.dir = transformVector(in.toObject, ray.dir);
           }
           double tm = r.tMax;
+          const TriangleRay tr(r);
           bool stop = o.bvh.traverse<true>(
               r, tm,
               [&](uint32_t f, uint32_t c, double&) {
@@ -455,7 +456,7 @@ Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes) const 
                     switch (o.type) {
                       case GeometryType::Triangles: {
                         const glm::uvec3& t = o.leafTris[k];
-                        h = intersectTriangle(rr, o.mesh.positions[t.x], o.mesh.positions[t.y],
+                        h = intersectTriangle(rr, tr, o.mesh.positions[t.x], o.mesh.positions[t.y],
                                               o.mesh.positions[t.z]);
                         break;
                       }

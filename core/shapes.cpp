@@ -30,15 +30,25 @@ bool solveQuadraticHalfB(double a, double hb, double c, double& t0, double& t1) 
 
 }  // namespace
 
-std::optional<PrimHit> intersectTriangle(const Ray& ray, const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+TriangleRay::TriangleRay(const Ray& ray) {
   // Permute axes so the ray direction's largest component is z
-  int kz = maxAxis(ray.dir);
-  int kx = (kz + 1) % 3;
-  int ky = (kx + 1) % 3;
+  kz = maxAxis(ray.dir);
+  kx = (kz + 1) % 3;
+  ky = (kx + 1) % 3;
   if (ray.dir[kz] < 0.0) std::swap(kx, ky);
   double dz = ray.dir[kz];
-  if (dz == 0.0) return std::nullopt;  // zero direction
-  double sx = ray.dir[kx] / dz, sy = ray.dir[ky] / dz, sz = 1.0 / dz;
+  valid = dz != 0.0 && isFinite(ray.dir);
+  if (!valid) return;
+  sx = ray.dir[kx] / dz;
+  sy = ray.dir[ky] / dz;
+  sz = 1.0 / dz;
+}
+
+std::optional<PrimHit> intersectTriangle(const Ray& ray, const TriangleRay& tr, const Vec3& p0, const Vec3& p1,
+                                         const Vec3& p2) {
+  if (!tr.valid) return std::nullopt;
+  const int kx = tr.kx, ky = tr.ky, kz = tr.kz;
+  const double sx = tr.sx, sy = tr.sy, sz = tr.sz;
 
   // Translate vertices to the ray origin and shear so the ray becomes the +z axis
   Vec3 a = p0 - ray.origin, b = p1 - ray.origin, c = p2 - ray.origin;

@@ -45,8 +45,21 @@ struct PrimHit {
   double u, v;
 };
 
+/// Per-ray constants of the watertight triangle test (axis permutation and shear), computed once per ray.
+struct TriangleRay {
+  int kx = 0, ky = 1, kz = 2;
+  double sx = 0.0, sy = 0.0, sz = 0.0;
+  bool valid = false;  ///< false for a zero or non-finite direction (then nothing is hit)
+  explicit TriangleRay(const Ray& ray);
+};
+
 /// Watertight ray/triangle test (Woop, Benthin, Wald 2013). Returns a hit with t in (tMin, tMax).
-std::optional<PrimHit> intersectTriangle(const Ray& ray, const Vec3& p0, const Vec3& p1, const Vec3& p2);
+/// Performance note: pass the precomputed TriangleRay when testing many triangles against one ray.
+std::optional<PrimHit> intersectTriangle(const Ray& ray, const TriangleRay& tr, const Vec3& p0, const Vec3& p1,
+                                         const Vec3& p2);
+inline std::optional<PrimHit> intersectTriangle(const Ray& ray, const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+  return intersectTriangle(ray, TriangleRay(ray), p0, p1, p2);
+}
 
 /// Ray/sphere test, stable for origins far from the sphere (the origin is moved to the point of closest approach
 /// before the quadratic is solved). Returns the nearest t in (tMin, tMax).
