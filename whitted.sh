@@ -125,7 +125,7 @@ cmd_test() {
   wait $pid_asan || status=1
   # ThreadSanitizer on the multithreaded renderer tests (the rest of the core suite is single-threaded)
   (cd "$BUILD/tsan" && TSAN_OPTIONS="halt_on_error=1" ctest -j "$JOBS" --output-on-failure --timeout 900 \
-    -R "Renderer\.|Stability\.(ScaleAndOffset|Grazing|OpticsAtTheEdge)") \
+    -R "Renderer\.|Bvh\.Parallel|Stability\.(ScaleAndOffset|Grazing|OpticsAtTheEdge)") \
     >"$BUILD/test-tsan.log" 2>&1 || status=1
   (cd "$BUILD/fuzz" && ctest --output-on-failure --timeout 900 -L fuzz) >"$BUILD/test-fuzz.log" 2>&1 || status=1
   if [ -d "$BUILD/paraview" ]; then
