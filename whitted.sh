@@ -119,7 +119,7 @@ cmd_test() {
   (cd "$BUILD/vtk" && "${XVFB[@]}" ctest -j "$JOBS" --output-on-failure --timeout 900) >"$BUILD/test-vtk.log" 2>&1 &
   local pid_main=$!
   (cd "$BUILD/asan" && ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
-    "${XVFB[@]}" ctest --output-on-failure --timeout 900 -LE "python|benchmark|paraview") >"$BUILD/test-asan.log" 2>&1 &
+    "${XVFB[@]}" ctest --output-on-failure --timeout 900 -LE "python|benchmark|paraview|large") >"$BUILD/test-asan.log" 2>&1 &
   local pid_asan=$!
   wait $pid_main || status=1
   wait $pid_asan || status=1
