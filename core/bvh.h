@@ -29,6 +29,7 @@ struct BvhBuildOptions {
 struct RayTraversal {
   Vec3 origin;
   Vec3 invDir;
+  bool negative[3];  ///< Direction component negative: the near plane is the box's hi face on that axis.
   explicit RayTraversal(const Ray& r) : origin(r.origin) {
     for (int i = 0; i < 3; ++i) {
       // Slopes below 1e-290 (incl. denormals, whose reciprocal overflows) are treated as parallel: the reciprocal
@@ -36,6 +37,7 @@ struct RayTraversal {
       // ray is kept (conservative) while a parallel ray outside the slab gets +-inf and is rejected.
       double d = std::abs(r.dir[i]) < 1e-290 ? std::copysign(0.0, r.dir[i]) : r.dir[i];
       invDir[i] = d != 0.0 ? 1.0 / d : std::copysign(kInfinity, d);
+      negative[i] = std::signbit(invDir[i]);
     }
   }
 };
@@ -71,16 +73,17 @@ class Bvh {
     uint32_t stack[kStackSize];
     int sp = 0;
     uint32_t node = 0;
+    uint64_t visited = 0;  // counted locally, stored once (no memory write per node)
     bool hitAny = false;
     double tEntry;
     if (!slab(nodes_[0], rt, ray.tMin, tMax, tEntry)) return false;
     for (;;) {
       const BvhNode& n = nodes_[node];
-      if (nodesVisited) ++*nodesVisited;
+      ++visited;
       if (n.count > 0) {
         if (leaf(n.first, n.count, tMax)) {
           hitAny = true;
-          if constexpr (AnyHit) return true;
+          if constexpr (AnyHit) break;
         }
       } else {
         // Order children by entry distance; descend into the nearer one
@@ -88,9 +91,9 @@ class Bvh {
         bool hl = slab(nodes_[n.first], rt, ray.tMin, tMax, tl);
         bool hr = slab(nodes_[n.first + 1], rt, ray.tMin, tMax, tr);
         if (hl && hr) {
-          uint32_t nearC = tl <= tr ? n.first : n.first + 1;
-          stack[sp++] = nearC == n.first ? n.first + 1 : n.first;
-          node = nearC;
+          bool leftFirst = tl <= tr;
+          stack[sp++] = leftFirst ? n.first + 1 : n.first;
+          node = leftFirst ? n.first : n.first + 1;
           continue;
         }
         if (hl || hr) {
@@ -101,17 +104,21 @@ class Bvh {
       if (sp == 0) break;
       node = stack[--sp];
     }
+    if (nodesVisited) *nodesVisited += visited;
     return hitAny;
   }
 
-  /// Slab test against a node; tEntry receives the entry distance.
+  /// Slab test against a node; tEntry receives the entry distance. Near and far planes are chosen by the sign
+  /// of the direction (precomputed), so no per-axis swap is needed.
   static bool slab(const BvhNode& n, const RayTraversal& r, double tMin, double tMax, double& tEntry) {
+    const float* lo = n.lo;
+    const float* hi = n.hi;
     double t0 = tMin, t1 = tMax;
     for (int i = 0; i < 3; ++i) {
-      double a = (double(n.lo[i]) - r.origin[i]) * r.invDir[i];
-      double b = (double(n.hi[i]) - r.origin[i]) * r.invDir[i];
-      if (a > b) std::swap(a, b);  // NaN compares false: that axis then leaves [t0, t1] unchanged
-      // Widen the far distance by the rounding bound so the test stays conservative (pbrt-v4)
+      double a = (double(r.negative[i] ? hi[i] : lo[i]) - r.origin[i]) * r.invDir[i];
+      double b = (double(r.negative[i] ? lo[i] : hi[i]) - r.origin[i]) * r.invDir[i];
+      // Widen the far distance by the rounding bound so the test stays conservative (pbrt-v4). A NaN (0 * inf:
+      // origin on a face plane of a parallel ray) compares false and leaves [t0, t1] unchanged.
       b *= 1.0 + 2.0 * gammaBound(3);
       t0 = a > t0 ? a : t0;
       t1 = b < t1 ? b : t1;
