@@ -1,0 +1,60 @@
+/**
+ * @class   vtkWhittedCompositor
+ * @brief   internal: writes a traced colour + depth image into the current OpenGL framebuffer
+ *
+ * Private to the Whitted module. Uploads the tracer's linear RGBA (float) and OpenGL window depth
+ * (float) as textures and draws a full-screen quad over the renderer's viewport that writes both
+ * gl_FragData and gl_FragDepth. Pixels the tracer missed (alpha 0) are discarded, so whatever VTK
+ * cleared there (background, gradient, lower layers, a transparent background for compositing)
+ * stays; partly covered pixels are blended as premultiplied colour. The depth test is LEQUAL
+ * against the cleared (or preserved) depth buffer, so OpenGL geometry drawn before or after
+ * depth-composes with the traced geometry.
+ */
+
+#ifndef vtkWhittedCompositor_h
+#define vtkWhittedCompositor_h
+
+#include "vtkNew.h" // for vtkNew
+
+class vtkOpenGLQuadHelper;
+class vtkOpenGLRenderWindow;
+class vtkTextureObject;
+class vtkWindow;
+
+namespace whitted
+{
+struct FrameBuffer;
+}
+
+class vtkWhittedCompositor
+{
+public:
+  vtkWhittedCompositor();
+  ~vtkWhittedCompositor();
+  vtkWhittedCompositor(const vtkWhittedCompositor&) = delete;
+  vtkWhittedCompositor& operator=(const vtkWhittedCompositor&) = delete;
+
+  /**
+   * Turns the colours of partly covered pixels (0 < alpha < 1, only with several samples per pixel)
+   * into premultiplied colour by removing the background the tracer mixed in: bottom/top are the
+   * background colours, gradient tells whether the background is a vertical gradient.
+   */
+  static void Premultiply(
+    whitted::FrameBuffer& fb, const double bottom[3], const double top[3], bool gradient);
+
+  /**
+   * Draws fb (premultiplied) into the viewport (x, y, fb.width, fb.height) of the current
+   * framebuffer. Returns false if the shader could not be built.
+   */
+  bool Draw(vtkOpenGLRenderWindow* win, const whitted::FrameBuffer& fb, int x, int y);
+
+  void ReleaseGraphicsResources(vtkWindow* w);
+
+private:
+  vtkOpenGLQuadHelper* Quad = nullptr;
+  vtkNew<vtkTextureObject> ColorTexture;
+  vtkNew<vtkTextureObject> DepthTexture;
+};
+
+#endif
+// VTK-HeaderTest-Exclude: vtkWhittedCompositor.h

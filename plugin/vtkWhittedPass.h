@@ -1,0 +1,269 @@
+/**
+ * @class   vtkWhittedPass
+ * @brief   a render pass that draws a renderer's actors with a Whitted-style ray tracer
+ *
+ * Put it on a renderer (`renderer->SetPass(pass)`) and the same scene comes out ray traced: VTK's
+ * own surface shading (ambient, diffuse, specular, lights, normals, scalar colours, textures) plus
+ * shadows, mirror reflection and refraction, composited into the normal VTK view with true OpenGL
+ * depth.
+ *
+ * Data flow of one frame:
+ *   vtkCameraPass (clears, viewport) -> vtkLightsPass (light geometry, automatic headlight)
+ *   -> scene conversion (vtkWhittedSceneConverter: actors -> core scene, cached by MTime)
+ *   -> BVH build of changed objects -> trace (core renderer, all cores)
+ *   -> composite colour + depth into the framebuffer (vtkWhittedCompositor)
+ *   -> VTK's own OpenGL stages for every prop the tracer does not handle (2D actors, volumes, image
+ *      slices, plain points/lines/wireframe), depth-tested against the traced image, then overlays.
+ *
+ * Whitted materials are set per actor with information keys on its vtkProperty:
+ * @code
+ *   prop->GetInformation()->Set(vtkWhittedPass::REFLECTANCE(), 0.8);            // grey mirror
+ *   double kt[3] = { 0.9, 0.9, 0.8 };
+ *   prop->GetInformation()->Set(vtkWhittedPass::TRANSMITTANCE(), kt, 3);        // tinted glass
+ *   prop->GetInformation()->Set(vtkWhittedPass::INDEX_OF_REFRACTION(), 1.5);
+ * @endcode
+ * Without keys an actor keeps its VTK look: reflectance 0, transmittance 1 - Opacity, index 1.
+ *
+ * The statistics of the last frame (time per phase, rays by kind, scene size, what was rebuilt) are
+ * available through the GetLast...() methods and as text through GetLastFrameReport().
+ *
+ * @sa vtkRenderPass vtkOSPRayPass
+ */
+
+#ifndef vtkWhittedPass_h
+#define vtkWhittedPass_h
+
+#include "vtkRenderPass.h"
+#include "vtkWhittedModule.h" // For export macro
+
+#include <string> // for std::string
+
+class vtkInformationDoubleKey;
+class vtkInformationDoubleVectorKey;
+class vtkWhittedPassInternals;
+
+class VTKWHITTED_EXPORT vtkWhittedPass : public vtkRenderPass
+{
+public:
+  static vtkWhittedPass* New();
+  vtkTypeMacro(vtkWhittedPass, vtkRenderPass);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * Perform rendering according to a render state s.
+   */
+  void Render(const vtkRenderState* s) override;
+
+  /**
+   * Release the OpenGL objects of the compositor and of the passes used for
+   * props drawn by OpenGL.
+   */
+  void ReleaseGraphicsResources(vtkWindow* w) override;
+
+  ///@{
+  /**
+   * Maximum number of secondary bounces (reflection and refraction) per camera ray; 0 gives local
+   * shading (plus shadows) only. Default is 5.
+   */
+  vtkSetClampMacro(MaxDepth, int, 0, 64);
+  vtkGetMacro(MaxDepth, int);
+  ///@}
+
+  ///@{
+  /**
+   * Camera samples per pixel (stratified, jittered); 1 traces the pixel centre, like OpenGL without
+   * multisampling. Default is 1.
+   */
+  vtkSetClampMacro(SamplesPerPixel, int, 1, 256);
+  vtkGetMacro(SamplesPerPixel, int);
+  ///@}
+
+  ///@{
+  /**
+   * Adaptive anti-aliasing: trace one sample per pixel first and SamplesPerPixel samples only where
+   * neighbouring pixels differ. Has no effect when SamplesPerPixel is 1. Default is off.
+   */
+  vtkSetMacro(AdaptiveSampling, bool);
+  vtkGetMacro(AdaptiveSampling, bool);
+  vtkBooleanMacro(AdaptiveSampling, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Trace shadow rays toward every light (transmissive actors cast coloured shadows). Default is
+   * on.
+   */
+  vtkSetMacro(Shadows, bool);
+  vtkGetMacro(Shadows, bool);
+  vtkBooleanMacro(Shadows, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Trace mirror rays for actors with a REFLECTANCE. Default is on.
+   */
+  vtkSetMacro(Reflections, bool);
+  vtkGetMacro(Reflections, bool);
+  vtkBooleanMacro(Reflections, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Bend transmitted rays by the INDEX_OF_REFRACTION (Snell's law, total internal reflection). When
+   * off, transmissive actors are see-through without bending. Default is on.
+   */
+  vtkSetMacro(Refractions, bool);
+  vtkGetMacro(Refractions, bool);
+  vtkBooleanMacro(Refractions, bool);
+  ///@}
+
+  ///@{
+  /**
+   * A secondary ray whose weight (product of reflectances / transmittances along its path) falls
+   * below this value is not traced: it could change the 8-bit pixel by less than one step.
+   * Default is 1/255.
+   */
+  vtkSetClampMacro(ContributionThreshold, double, 0.0, 1.0);
+  vtkGetMacro(ContributionThreshold, double);
+  ///@}
+
+  ///@{
+  /**
+   * Number of tracing threads; 0 uses all cores. Default is 0.
+   */
+  vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
+  vtkGetMacro(NumberOfThreads, int);
+  ///@}
+
+  ///@{
+  /**
+   * Schlick's Fresnel term: transmissive actors reflect more at grazing angles (part of the
+   * transmittance moves to the reflectance). Default is off.
+   */
+  vtkSetMacro(Fresnel, bool);
+  vtkGetMacro(Fresnel, bool);
+  vtkBooleanMacro(Fresnel, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Whitted material keys, set on an actor's vtkProperty information.
+   * REFLECTANCE: weight of the mirror-reflected ray, 1 value (grey) or 3 (RGB) in [0,1]. Default 0.
+   * TRANSMITTANCE: weight of the transmitted (refracted) ray and the filter applied to shadow rays
+   * crossing the actor, 1 or 3 values in [0,1]. Default 1 - Opacity.
+   * INDEX_OF_REFRACTION: index of the actor's inside (outside is 1). Default 1 (no bending).
+   */
+  static vtkInformationDoubleVectorKey* REFLECTANCE();
+  static vtkInformationDoubleVectorKey* TRANSMITTANCE();
+  static vtkInformationDoubleKey* INDEX_OF_REFRACTION();
+  ///@}
+
+  ///@{
+  /**
+   * Statistics of the last frame. Times are wall-clock seconds: conversion of actors to the
+   * tracer's scene, BVH builds, tracing, compositing into the framebuffer (including the OpenGL
+   * stages for props the tracer does not handle).
+   */
+  vtkGetMacro(LastConversionTime, double);
+  vtkGetMacro(LastBuildTime, double);
+  vtkGetMacro(LastTraceTime, double);
+  vtkGetMacro(LastCompositeTime, double);
+  vtkGetMacro(LastTotalTime, double);
+  ///@}
+
+  ///@{
+  /**
+   * Rays of the last frame by kind, and secondary rays not traced because their contribution was
+   * below ContributionThreshold or MaxDepth was reached.
+   */
+  vtkGetMacro(LastPrimaryRays, vtkTypeUInt64);
+  vtkGetMacro(LastShadowRays, vtkTypeUInt64);
+  vtkGetMacro(LastReflectionRays, vtkTypeUInt64);
+  vtkGetMacro(LastRefractionRays, vtkTypeUInt64);
+  vtkGetMacro(LastRaysSavedByThreshold, vtkTypeUInt64);
+  vtkGetMacro(LastRaysSavedByDepth, vtkTypeUInt64);
+  ///@}
+
+  ///@{
+  /**
+   * Scene of the last frame: triangles, spheres (points as spheres), tubes (lines as tubes), BVH
+   * memory in bytes, image size.
+   */
+  vtkGetMacro(LastNumberOfTriangles, vtkTypeUInt64);
+  vtkGetMacro(LastNumberOfSpheres, vtkTypeUInt64);
+  vtkGetMacro(LastNumberOfTubes, vtkTypeUInt64);
+  vtkGetMacro(LastBVHBytes, vtkTypeUInt64);
+  vtkGetVector2Macro(LastSize, int);
+  ///@}
+
+  ///@{
+  /**
+   * Caching of the last frame: how many geometries (a mapper's input, or one block of a composite
+   * input) were converted again, how many object BVHs were built, whether the top-level BVH over
+   * the instances was rebuilt, how many props were traced and how many were left to OpenGL.
+   */
+  vtkGetMacro(LastNumberOfGeometriesConverted, int);
+  vtkGetMacro(LastNumberOfObjectsRebuilt, int);
+  vtkGetMacro(LastTopLevelRebuilt, bool);
+  vtkGetMacro(LastNumberOfTracedActors, int);
+  vtkGetMacro(LastNumberOfOpenGLProps, int);
+  vtkGetMacro(LastFrameAborted, bool);
+  ///@}
+
+  /**
+   * The last frame's statistics as a human-readable report (the same text as the core's
+   * command-line renderer, plus the VTK phases). Empty before the first frame.
+   */
+  const char* GetLastFrameReport() { return this->LastFrameReport.c_str(); }
+
+  /**
+   * Called by the internal pass: converts, traces and composites. Not meant to be called directly.
+   */
+  virtual void RenderInternal(const vtkRenderState* s);
+
+protected:
+  vtkWhittedPass();
+  ~vtkWhittedPass() override;
+
+  int MaxDepth = 5;
+  int SamplesPerPixel = 1;
+  bool AdaptiveSampling = false;
+  bool Shadows = true;
+  bool Reflections = true;
+  bool Refractions = true;
+  double ContributionThreshold = 1.0 / 255.0;
+  int NumberOfThreads = 0;
+  bool Fresnel = false;
+
+  double LastConversionTime = 0.0;
+  double LastBuildTime = 0.0;
+  double LastTraceTime = 0.0;
+  double LastCompositeTime = 0.0;
+  double LastTotalTime = 0.0;
+  vtkTypeUInt64 LastPrimaryRays = 0;
+  vtkTypeUInt64 LastShadowRays = 0;
+  vtkTypeUInt64 LastReflectionRays = 0;
+  vtkTypeUInt64 LastRefractionRays = 0;
+  vtkTypeUInt64 LastRaysSavedByThreshold = 0;
+  vtkTypeUInt64 LastRaysSavedByDepth = 0;
+  vtkTypeUInt64 LastNumberOfTriangles = 0;
+  vtkTypeUInt64 LastNumberOfSpheres = 0;
+  vtkTypeUInt64 LastNumberOfTubes = 0;
+  vtkTypeUInt64 LastBVHBytes = 0;
+  int LastSize[2] = { 0, 0 };
+  int LastNumberOfGeometriesConverted = 0;
+  int LastNumberOfObjectsRebuilt = 0;
+  bool LastTopLevelRebuilt = false;
+  int LastNumberOfTracedActors = 0;
+  int LastNumberOfOpenGLProps = 0;
+  bool LastFrameAborted = false;
+  std::string LastFrameReport;
+
+  vtkWhittedPassInternals* Internals;
+
+private:
+  vtkWhittedPass(const vtkWhittedPass&) = delete;
+  void operator=(const vtkWhittedPass&) = delete;
+};
+
+#endif

@@ -1,0 +1,902 @@
+#include "vtkWhittedSceneConverter.h"
+
+#include "vtkWhittedPass.h"
+#include "vtkWhittedPolyDataConverter.h"
+
+#include "vtkActor.h"
+#include "vtkAssembly.h"
+#include "vtkAssemblyNode.h"
+#include "vtkAssemblyPath.h"
+#include "vtkCompositeDataDisplayAttributes.h"
+#include "vtkCompositePolyDataMapper2.h"
+#include "vtkDataObjectTree.h"
+#include "vtkDataObjectTreeIterator.h"
+#include "vtkDataSetMapper.h"
+#include "vtkDataSetSurfaceFilter.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationDoubleKey.h"
+#include "vtkInformationDoubleVectorKey.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
+#include "vtkMatrix4x4.h"
+#include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkPropCollection.h"
+#include "vtkProperty.h"
+#include "vtkRenderer.h"
+#include "vtkScalarsToColors.h"
+#include "vtkSmartPointer.h"
+#include "vtkTexture.h"
+
+#include "material.h"
+#include "scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <string>
+#include <tuple>
+#include <unordered_set>
+#include <utility>
+
+namespace
+{
+using whitted::Color;
+using whitted::Color4;
+using whitted::Mat4;
+using whitted::Vec2f;
+using whitted::Vec3;
+using whitted::Vec3f;
+
+enum Kind
+{
+  KindTriangles = 0,
+  KindSpheres = 1,
+  KindCapsules = 2,
+  KindCount = 3
+};
+
+//------------------------------------------------------------------------------
+// vtkMatrix4x4 is row-major with column vectors (p' = M p); glm is column-major: element (r, c)
+// goes to m[c][r].
+Mat4 ToMat4(const vtkMatrix4x4* m)
+{
+  Mat4 r(1.0);
+  if (m)
+  {
+    for (int row = 0; row < 4; ++row)
+    {
+      for (int col = 0; col < 4; ++col)
+      {
+        r[col][row] = m->GetElement(row, col);
+      }
+    }
+  }
+  return r;
+}
+
+// Cache key of a geometry: what is drawn (mapper and its input or block) and how.
+struct GeometryKey
+{
+  vtkMapper* Mapper;
+  vtkDataObject* Data;
+  vtkWhittedPolyDataConverter::Options Options;
+  bool operator<(const GeometryKey& o) const
+  {
+    return std::make_tuple(this->Mapper, this->Data, this->Options.Tie()) <
+      std::make_tuple(o.Mapper, o.Data, o.Options.Tie());
+  }
+};
+
+// The converted form of one geometry: up to one object per primitive kind.
+struct Geometry
+{
+  vtkMTimeType Stamp = 0;
+  int Objects[KindCount] = { -1, -1, -1 };
+  bool ScalarColors = false; // primitives carry colours mapped from scalars
+  int ColorTexture = -1;     // InterpolateScalarsBeforeMapping: scene texture of the colour map
+  bool TCoords = false;      // the triangles carry texture coordinates
+  unsigned long LastFrame = 0;
+};
+
+//------------------------------------------------------------------------------
+// A piece of an actor: its polydata, or one visible block of a composite input with its
+// display-attribute overrides.
+struct Piece
+{
+  vtkPolyData* Poly = nullptr;
+  bool HasColor = false;
+  double Color[3] = { 1.0, 1.0, 1.0 };
+  bool HasOpacity = false;
+  double Opacity = 1.0;
+};
+
+void CollectBlocks(vtkDataObject* obj, vtkCompositeDataDisplayAttributes* attrs, bool visible,
+  const Piece& inherited, std::vector<Piece>& out)
+{
+  if (!obj)
+  {
+    return;
+  }
+  Piece state = inherited;
+  if (attrs)
+  {
+    if (attrs->HasBlockVisibility(obj))
+    {
+      visible = attrs->GetBlockVisibility(obj);
+    }
+    if (attrs->HasBlockColor(obj))
+    {
+      state.HasColor = true;
+      attrs->GetBlockColor(obj, state.Color);
+    }
+    if (attrs->HasBlockOpacity(obj))
+    {
+      state.HasOpacity = true;
+      state.Opacity = attrs->GetBlockOpacity(obj);
+    }
+  }
+  if (auto* tree = vtkDataObjectTree::SafeDownCast(obj))
+  {
+    auto iter = vtk::TakeSmartPointer(tree->NewTreeIterator());
+    iter->VisitOnlyLeavesOff();
+    iter->TraverseSubTreeOff();
+    iter->SkipEmptyNodesOn();
+    for (iter->InitTraversal(); !iter->IsDoneWithTraversal(); iter->GoToNextItem())
+    {
+      CollectBlocks(iter->GetCurrentDataObject(), attrs, visible, state, out);
+    }
+  }
+  else if (auto* poly = vtkPolyData::SafeDownCast(obj))
+  {
+    if (visible)
+    {
+      state.Poly = poly;
+      out.push_back(state);
+    }
+  }
+}
+
+struct InstanceKey
+{
+  vtkProp* Leaf;
+  int Occurrence;
+  int Piece;
+  int Kind;
+  bool operator<(const InstanceKey& o) const
+  {
+    return std::tie(this->Leaf, this->Occurrence, this->Piece, this->Kind) <
+      std::tie(o.Leaf, o.Occurrence, o.Piece, o.Kind);
+  }
+};
+
+struct InstanceSlot
+{
+  uint32_t Instance = 0;
+  uint32_t Material = 0;
+  uint32_t Object = 0;
+  Mat4 Matrix{ 1.0 };
+  unsigned long LastFrame = 0;
+};
+
+struct TextureEntry
+{
+  vtkMTimeType Stamp = 0;
+  int Id = -1;
+  unsigned long LastFrame = 0;
+};
+
+// A leaf actor found in this frame's props, with its world matrix.
+struct Leaf
+{
+  vtkActor* Actor;
+  vtkMatrix4x4* Matrix;
+  int Occurrence;
+};
+
+// What whitted::sanitizeMaterial fixed, in words.
+std::string SanitizeMessage(uint32_t bits)
+{
+  static const char* const what[] = { "a colour", "Ambient/Diffuse/Specular", "SpecularPower",
+    "Opacity", "REFLECTANCE", "TRANSMITTANCE", "INDEX_OF_REFRACTION", "absorption" };
+  std::string msg;
+  for (int i = 0; i < 8; ++i)
+  {
+    if (bits & (1u << i))
+    {
+      msg += msg.empty() ? "" : ", ";
+      msg += what[i];
+    }
+  }
+  return (msg.empty() ? std::string("a material value") : msg) +
+    " out of range or not finite: clamped (INDEX_OF_REFRACTION <= 0 becomes 1)";
+}
+
+} // namespace
+
+//------------------------------------------------------------------------------
+struct vtkWhittedSceneConverter::Internals
+{
+  whitted::Scene Scene;
+  unsigned long Frame = 0;
+
+  std::map<GeometryKey, Geometry> Geometries;
+  std::map<InstanceKey, InstanceSlot> Instances;
+  std::map<vtkTexture*, TextureEntry> Textures;
+  std::vector<uint32_t> FreeObjects;
+  std::vector<std::pair<uint32_t, uint32_t>> FreeInstances; // (instance, material)
+  int DeadTextures = 0;
+  std::set<std::pair<vtkProp*, uint32_t>> Warned;
+
+  vtkObject* Owner = nullptr;
+  bool LightsOn = true;
+
+  // Surface extraction for vtkDataSetMapper inputs that are not polydata (as that mapper does
+  // itself)
+  struct Surface
+  {
+    vtkSmartPointer<vtkDataSetSurfaceFilter> Filter;
+    unsigned long LastFrame = 0;
+  };
+  std::map<vtkMapper*, Surface> Surfaces;
+
+  void Clear()
+  {
+    this->Scene = whitted::Scene();
+    this->Geometries.clear();
+    this->Instances.clear();
+    this->Textures.clear();
+    this->FreeObjects.clear();
+    this->FreeInstances.clear();
+    this->Surfaces.clear();
+    this->DeadTextures = 0;
+  }
+
+  void WarnOnce(vtkProp* prop, uint32_t what, const std::string& msg)
+  {
+    if (this->Warned.insert(std::make_pair(prop, what)).second)
+    {
+      vtkWarningWithObjectMacro(
+        this->Owner, << "Actor " << prop << " (" << prop->GetClassName() << "): " << msg);
+    }
+  }
+
+  //----------------------------------------------------------------------------
+  uint32_t StoreObject(int existing, int kind, vtkWhittedPolyDataConverter::Primitives& c)
+  {
+    uint32_t id;
+    bool reuse = existing >= 0;
+    if (reuse)
+    {
+      id = static_cast<uint32_t>(existing);
+    }
+    else if (!this->FreeObjects.empty())
+    {
+      id = this->FreeObjects.back();
+      this->FreeObjects.pop_back();
+      reuse = true;
+    }
+    if (!reuse)
+    {
+      switch (kind)
+      {
+        case KindTriangles:
+          return this->Scene.addMesh(std::move(c.Mesh));
+        case KindSpheres:
+          return this->Scene.addSpheres(std::move(c.Spheres));
+        default:
+          return this->Scene.addCapsules(std::move(c.Capsules));
+      }
+    }
+    switch (kind)
+    {
+      case KindTriangles:
+        this->Scene.setMesh(id, std::move(c.Mesh));
+        break;
+      case KindSpheres:
+        this->Scene.setSpheres(id, std::move(c.Spheres));
+        break;
+      default:
+        this->Scene.setCapsules(id, std::move(c.Capsules));
+        break;
+    }
+    return id;
+  }
+
+  void FreeObject(int& id)
+  {
+    if (id >= 0)
+    {
+      this->Scene.removeObject(static_cast<uint32_t>(id));
+      this->FreeObjects.push_back(static_cast<uint32_t>(id));
+      id = -1;
+    }
+  }
+
+  //----------------------------------------------------------------------------
+  // Converted geometry of one piece, converted again only if something it depends on changed.
+  Geometry& GetGeometry(vtkMapper* mapper, vtkPolyData* poly,
+    const vtkWhittedPolyDataConverter::Options& opts, double radiusScale, int& converted)
+  {
+    GeometryKey key{ mapper, poly, opts };
+    Geometry& g = this->Geometries[key];
+    g.LastFrame = this->Frame;
+    auto stamp = [&]()
+    {
+      vtkMTimeType s = std::max(mapper->GetMTime(), poly->GetMTime());
+      if (vtkScalarsToColors* lut = mapper->GetLookupTable())
+      {
+        s = std::max(s, lut->GetMTime());
+      }
+      return s;
+    };
+    if (g.Stamp != 0 && g.Stamp == stamp())
+    {
+      return g;
+    }
+
+    vtkWhittedPolyDataConverter::Primitives c;
+    vtkWhittedPolyDataConverter::Convert(poly, mapper, opts, radiusScale, c);
+    ++converted;
+
+    const bool has[KindCount] = { !c.Mesh.triangles.empty(), !c.Spheres.centers.empty(),
+      !c.Capsules.p0.empty() };
+    for (int k = 0; k < KindCount; ++k)
+    {
+      if (has[k])
+      {
+        g.Objects[k] = static_cast<int>(this->StoreObject(g.Objects[k], k, c));
+      }
+      else
+      {
+        this->FreeObject(g.Objects[k]);
+      }
+    }
+    if (g.ColorTexture >= 0)
+    {
+      ++this->DeadTextures;
+      g.ColorTexture = -1;
+    }
+    if (c.HasColorTexture && c.ColorTexture.width > 0)
+    {
+      g.ColorTexture = static_cast<int>(this->Scene.addTexture(std::move(c.ColorTexture)));
+    }
+    g.ScalarColors = c.ScalarColors;
+    g.TCoords = c.TCoords;
+    // Mapping scalars may have created a lookup table or touched the mapper: stamp afterwards
+    g.Stamp = stamp();
+    return g;
+  }
+
+  //----------------------------------------------------------------------------
+  int GetTexture(vtkTexture* texture)
+  {
+    texture->Update();
+    vtkImageData* image = vtkImageData::SafeDownCast(texture->GetInput());
+    if (!image)
+    {
+      return -1;
+    }
+    vtkMTimeType stamp = std::max(texture->GetMTime(), image->GetMTime());
+    if (texture->GetLookupTable())
+    {
+      stamp = std::max(stamp, texture->GetLookupTable()->GetMTime());
+    }
+    TextureEntry& e = this->Textures[texture];
+    e.LastFrame = this->Frame;
+    if (e.Id >= 0 && e.Stamp == stamp)
+    {
+      return e.Id;
+    }
+    if (e.Id >= 0)
+    {
+      ++this->DeadTextures;
+    }
+    whitted::Texture t = vtkWhittedPolyDataConverter::ConvertImage(
+      image, image->GetPointData()->GetScalars(), texture);
+    t.repeat = texture->GetRepeat() != 0;
+    t.interpolate = texture->GetInterpolate() != 0;
+    e.Id = t.width > 0 ? static_cast<int>(this->Scene.addTexture(std::move(t))) : -1;
+    e.Stamp = stamp;
+    return e.Id;
+  }
+
+  //----------------------------------------------------------------------------
+  whitted::Material MakeMaterial(
+    vtkActor* actor, const Piece& piece, const Geometry& g, int actorTexture)
+  {
+    vtkProperty* p = actor->GetProperty();
+    whitted::Material m;
+    double c[3];
+    p->GetAmbientColor(c);
+    m.ambientColor = Color(c[0], c[1], c[2]);
+    p->GetDiffuseColor(c);
+    m.diffuseColor = Color(c[0], c[1], c[2]);
+    p->GetSpecularColor(c);
+    m.specularColor = Color(c[0], c[1], c[2]);
+    m.ambient = static_cast<float>(p->GetAmbient());
+    m.diffuse = static_cast<float>(p->GetDiffuse());
+    m.specular = static_cast<float>(p->GetSpecular());
+    m.specularPower = static_cast<float>(p->GetSpecularPower());
+    m.opacity = static_cast<float>(p->GetOpacity());
+    m.lighting = p->GetLighting() && this->LightsOn;
+    m.flatShading = p->GetInterpolation() == VTK_FLAT;
+
+    // Block overrides of a composite mapper replace the property's colour and opacity
+    if (piece.HasColor)
+    {
+      m.ambientColor = m.diffuseColor = Color(piece.Color[0], piece.Color[1], piece.Color[2]);
+    }
+    if (piece.HasOpacity)
+    {
+      m.opacity = static_cast<float>(piece.Opacity);
+    }
+
+    // Scalar colours replace ambient and diffuse colours (VTK 9.1)
+    if (g.ScalarColors)
+    {
+      m.colorSource = whitted::ColorSource::ScalarsAmbientAndDiffuse;
+    }
+    if (actorTexture >= 0 && g.TCoords)
+    {
+      m.texture = actorTexture;
+    }
+    else if (g.ColorTexture >= 0 && g.TCoords)
+    {
+      // Interpolated scalars through the colour map: the texel replaces the colours
+      m.texture = g.ColorTexture;
+      m.ambientColor = m.diffuseColor = Color(1.0f);
+    }
+
+    // Whitted terms from the property's information keys; defaults keep VTK's look
+    m.transmittance = Color(1.0f - m.opacity);
+    m.ior = 1.0f;
+    if (vtkInformation* info = p->GetInformation())
+    {
+      auto readColor = [&](vtkInformationDoubleVectorKey* key, Color& dst)
+      {
+        if (info->Has(key))
+        {
+          const int n = info->Length(key);
+          const double* v = info->Get(key);
+          if (n >= 3)
+          {
+            dst = Color(v[0], v[1], v[2]);
+          }
+          else if (n >= 1)
+          {
+            dst = Color(static_cast<float>(v[0]));
+          }
+        }
+      };
+      readColor(vtkWhittedPass::REFLECTANCE(), m.reflectance);
+      readColor(vtkWhittedPass::TRANSMITTANCE(), m.transmittance);
+      if (info->Has(vtkWhittedPass::INDEX_OF_REFRACTION()))
+      {
+        m.ior = static_cast<float>(info->Get(vtkWhittedPass::INDEX_OF_REFRACTION()));
+      }
+    }
+
+    if (const uint32_t fixed = whitted::sanitizeMaterial(m))
+    {
+      this->WarnOnce(actor, fixed, SanitizeMessage(fixed));
+    }
+    return m;
+  }
+
+  //----------------------------------------------------------------------------
+  void PlaceInstance(
+    const InstanceKey& key, uint32_t object, const Mat4& matrix, const whitted::Material& material)
+  {
+    auto it = this->Instances.find(key);
+    if (it == this->Instances.end())
+    {
+      InstanceSlot slot;
+      if (!this->FreeInstances.empty())
+      {
+        std::tie(slot.Instance, slot.Material) = this->FreeInstances.back();
+        this->FreeInstances.pop_back();
+        this->Scene.material(slot.Material) = material;
+        this->Scene.setInstanceObject(slot.Instance, object);
+        this->Scene.setInstanceTransform(slot.Instance, matrix);
+        this->Scene.setInstanceMaterial(slot.Instance, slot.Material);
+        this->Scene.setInstanceVisible(slot.Instance, true);
+      }
+      else
+      {
+        slot.Material = this->Scene.addMaterial(material);
+        slot.Instance = this->Scene.addInstance(object, matrix, slot.Material);
+      }
+      slot.Object = object;
+      slot.Matrix = matrix;
+      slot.LastFrame = this->Frame;
+      this->Instances.emplace(key, slot);
+      return;
+    }
+    InstanceSlot& slot = it->second;
+    slot.LastFrame = this->Frame;
+    if (slot.Object != object)
+    {
+      this->Scene.setInstanceObject(slot.Instance, object);
+      slot.Object = object;
+    }
+    if (slot.Matrix != matrix)
+    {
+      this->Scene.setInstanceTransform(slot.Instance, matrix);
+      slot.Matrix = matrix;
+    }
+    this->Scene.material(slot.Material) = material;
+  }
+
+  //----------------------------------------------------------------------------
+  // Whether the tracer draws this actor (else VTK's OpenGL path does).
+  static bool IsTraceable(vtkActor* actor)
+  {
+    vtkMapper* mapper = actor->GetMapper();
+    if (!mapper || !actor->GetProperty() ||
+      !(vtkPolyDataMapper::SafeDownCast(mapper) || vtkDataSetMapper::SafeDownCast(mapper)))
+    {
+      return false;
+    }
+    vtkProperty* p = actor->GetProperty();
+    const int rep = p->GetRepresentation();
+    if (rep == VTK_POINTS && !p->GetRenderPointsAsSpheres())
+    {
+      return false;
+    }
+    if (rep == VTK_WIREFRAME && !p->GetRenderLinesAsTubes())
+    {
+      return false;
+    }
+    return true;
+  }
+
+  // Surface actors whose data has only vertices / lines are drawn by OpenGL unless they ask for
+  // spheres / tubes.
+  static bool OnlyPlainPointsOrLines(const std::vector<Piece>& pieces, vtkProperty* p)
+  {
+    if (p->GetRepresentation() != VTK_SURFACE)
+    {
+      return false;
+    }
+    vtkIdType verts = 0, lines = 0, surfaces = 0;
+    for (const Piece& piece : pieces)
+    {
+      verts += piece.Poly->GetNumberOfVerts();
+      lines += piece.Poly->GetNumberOfLines();
+      surfaces += piece.Poly->GetNumberOfPolys() + piece.Poly->GetNumberOfStrips();
+    }
+    if (surfaces > 0)
+    {
+      return false;
+    }
+    return (lines > 0 && !p->GetRenderLinesAsTubes()) ||
+      (lines == 0 && verts > 0 && !p->GetRenderPointsAsSpheres());
+  }
+
+  //----------------------------------------------------------------------------
+  // Converts one leaf actor; false if OpenGL has to draw it.
+  bool ConvertActor(const Leaf& leaf, int& converted)
+  {
+    vtkActor* actor = leaf.Actor;
+    vtkMapper* mapper = actor->GetMapper();
+    vtkProperty* p = actor->GetProperty();
+
+    // Same update as vtkPolyDataMapper::Render / vtkDataSetMapper::Render
+    if (!mapper->GetStatic())
+    {
+      mapper->Update();
+    }
+    vtkDataObject* input = mapper->GetInputDataObject(0, 0);
+    if (!input)
+    {
+      return true; // nothing to draw
+    }
+    if (vtkDataSetMapper::SafeDownCast(mapper) && !vtkPolyData::SafeDownCast(input))
+    {
+      // vtkDataSetMapper draws the outer surface of other datasets
+      auto* dataset = vtkDataSet::SafeDownCast(input);
+      if (!dataset)
+      {
+        return true;
+      }
+      Surface& surface = this->Surfaces[mapper];
+      if (!surface.Filter)
+      {
+        surface.Filter = vtkSmartPointer<vtkDataSetSurfaceFilter>::New();
+      }
+      surface.LastFrame = this->Frame;
+      if (surface.Filter->GetInput() != dataset)
+      {
+        surface.Filter->SetInputData(dataset);
+      }
+      surface.Filter->Update();
+      input = surface.Filter->GetOutput();
+    }
+    std::vector<Piece> pieces;
+    if (auto* poly = vtkPolyData::SafeDownCast(input))
+    {
+      Piece piece;
+      piece.Poly = poly;
+      pieces.push_back(piece);
+    }
+    else
+    {
+      auto* cpdm = vtkCompositePolyDataMapper2::SafeDownCast(mapper);
+      CollectBlocks(
+        input, cpdm ? cpdm->GetCompositeDataDisplayAttributes() : nullptr, true, Piece(), pieces);
+    }
+    if (OnlyPlainPointsOrLines(pieces, p))
+    {
+      return false;
+    }
+
+    // An invisible actor (opacity 0, VTK discards its fragments) unless it has Whitted terms
+    vtkInformation* info = p->GetInformation();
+    const bool whittedKeys = info &&
+      (info->Has(vtkWhittedPass::REFLECTANCE()) || info->Has(vtkWhittedPass::TRANSMITTANCE()));
+    if (p->GetOpacity() <= 0.0 && !whittedKeys)
+    {
+      return true;
+    }
+    if (p->GetInterpolation() == VTK_PBR)
+    {
+      this->WarnOnce(actor, 1u << 16, "PBR interpolation is not supported: shaded as Gouraud");
+    }
+    if (p->GetBackfaceCulling() || p->GetFrontfaceCulling())
+    {
+      this->WarnOnce(actor, 1u << 17, "face culling is ignored by the ray tracer");
+    }
+
+    vtkWhittedPolyDataConverter::Options opts;
+    opts.Representation = p->GetRepresentation();
+    opts.Flat = p->GetInterpolation() == VTK_FLAT;
+    opts.Spheres = p->GetRenderPointsAsSpheres();
+    opts.Tubes = p->GetRenderLinesAsTubes();
+    opts.PointSize = p->GetPointSize();
+    opts.LineWidth = p->GetLineWidth();
+    vtkTexture* texture = actor->GetTexture();
+    opts.TCoords = texture != nullptr;
+    // Sphere and tube radii as VTK's OSPRay pass chooses them: size * (data diagonal / 1000)
+    double length = vtkDataSet::SafeDownCast(input) ? vtkDataSet::SafeDownCast(input)->GetLength()
+                                                    : mapper->GetLength();
+    const double radiusScale = (length > 0.0 && std::isfinite(length) ? length : 1.0) / 1000.0;
+
+    const int actorTexture = texture ? this->GetTexture(texture) : -1;
+    const Mat4 matrix = ToMat4(leaf.Matrix ? leaf.Matrix : actor->GetMatrix());
+    for (size_t i = 0; i < pieces.size(); ++i)
+    {
+      Geometry& g = this->GetGeometry(mapper, pieces[i].Poly, opts, radiusScale, converted);
+      const whitted::Material material = this->MakeMaterial(actor, pieces[i], g, actorTexture);
+      for (int k = 0; k < KindCount; ++k)
+      {
+        if (g.Objects[k] >= 0)
+        {
+          this->PlaceInstance(InstanceKey{ actor, leaf.Occurrence, static_cast<int>(i), k },
+            static_cast<uint32_t>(g.Objects[k]), matrix, material);
+        }
+      }
+    }
+    return true;
+  }
+
+  //----------------------------------------------------------------------------
+  // Lights in world coordinates and VTK's light complexity (vtkOpenGLRenderer::UpdateLights).
+  bool ConvertLights(vtkRenderer* ren)
+  {
+    std::vector<whitted::Light>& lights = this->Scene.lights();
+    lights.clear();
+    int count = 0;
+    int complexity = 0;
+    vtkLightCollection* lc = ren->GetLights();
+    vtkCollectionSimpleIterator sit;
+    lc->InitTraversal(sit);
+    while (vtkLight* light = lc->GetNextLight(sit))
+    {
+      const double status = light->GetSwitch();
+      if (status > 0.0)
+      {
+        ++count;
+        if (complexity == 0)
+        {
+          complexity = 1;
+        }
+      }
+      if (complexity == 1 && (count > 1 || light->GetLightType() != VTK_LIGHT_TYPE_HEADLIGHT))
+      {
+        complexity = 2;
+      }
+      if (complexity < 3 && light->GetPositional())
+      {
+        complexity = 3;
+      }
+      if (status <= 0.0)
+      {
+        continue;
+      }
+      whitted::Light l;
+      double v[3];
+      light->GetTransformedPosition(v);
+      l.position = Vec3(v[0], v[1], v[2]);
+      light->GetTransformedFocalPoint(v);
+      l.focalPoint = Vec3(v[0], v[1], v[2]);
+      light->GetDiffuseColor(v);
+      l.color = Color(v[0], v[1], v[2]);
+      l.intensity = static_cast<float>(light->GetIntensity());
+      l.positional = light->GetPositional() != 0;
+      light->GetAttenuationValues(v);
+      l.attenuation = Vec3(v[0], v[1], v[2]);
+      l.coneAngle = light->GetConeAngle();
+      l.exponent = light->GetExponent();
+      l.castShadows = light->GetShadowAttenuation() > 0.0f;
+      lights.push_back(l);
+    }
+    this->LightsOn = count > 0;
+    return complexity == 1;
+  }
+};
+
+//------------------------------------------------------------------------------
+vtkWhittedSceneConverter::vtkWhittedSceneConverter()
+  : Impl(new Internals)
+{
+}
+
+vtkWhittedSceneConverter::~vtkWhittedSceneConverter() = default;
+
+whitted::Scene& vtkWhittedSceneConverter::GetScene()
+{
+  return this->Impl->Scene;
+}
+
+void vtkWhittedSceneConverter::Reset()
+{
+  this->Impl->Clear();
+}
+
+//------------------------------------------------------------------------------
+void vtkWhittedSceneConverter::Update(
+  vtkRenderer* ren, vtkProp** props, int count, vtkObject* owner, Result& result)
+{
+  Internals& in = *this->Impl;
+  in.Owner = owner;
+  result = Result();
+
+  // Textures cannot be freed one by one in the core scene: start over when too many are dead
+  if (in.DeadTextures > 32)
+  {
+    in.Clear();
+  }
+  ++in.Frame;
+
+  // Lights and background
+  result.HeadlightShading = in.ConvertLights(ren);
+  double c[3];
+  ren->GetBackground(c);
+  in.Scene.background = Color(c[0], c[1], c[2]);
+  ren->GetBackground2(c);
+  in.Scene.background2 = Color(c[0], c[1], c[2]);
+  in.Scene.gradientBackground = ren->GetGradientBackground();
+  // Misses are written with alpha 0 and not composited: what VTK cleared (background, gradient,
+  // lower layers, transparent compositing background) stays
+  in.Scene.backgroundAlpha = 0.0f;
+
+  // Traced: every visible actor of the renderer, also those the frustum culler left out of the
+  // render state (they still cast shadows and show in mirrors); assemblies contribute their parts
+  // with the concatenated matrices. OpenGL: the render state's props that the tracer does not draw.
+  std::vector<Leaf> leaves;
+  std::map<vtkProp*, int> seen;
+  std::unordered_set<vtkProp*> inState(props, props + count);
+  vtkPropCollection* viewProps = ren->GetViewProps();
+  vtkCollectionSimpleIterator pit;
+  viewProps->InitTraversal(pit);
+  while (vtkProp* prop = viewProps->GetNextProp(pit))
+  {
+    if (!prop->GetVisibility())
+    {
+      continue;
+    }
+    if (vtkAssembly::SafeDownCast(prop))
+    {
+      prop->InitPathTraversal();
+      while (vtkAssemblyPath* path = prop->GetNextPath())
+      {
+        vtkAssemblyNode* node = path->GetLastNode();
+        vtkActor* actor = vtkActor::SafeDownCast(node ? node->GetViewProp() : nullptr);
+        if (!actor || !actor->GetVisibility())
+        {
+          continue;
+        }
+        if (!Internals::IsTraceable(actor))
+        {
+          in.WarnOnce(actor, 1u << 18,
+            "part of an assembly that the ray tracer cannot draw (not a surface polydata actor): "
+            "skipped");
+          continue;
+        }
+        leaves.push_back(Leaf{ actor, node->GetMatrix(), seen[actor]++ });
+      }
+      continue;
+    }
+    vtkActor* actor = vtkActor::SafeDownCast(prop);
+    if (actor && Internals::IsTraceable(actor))
+    {
+      leaves.push_back(Leaf{ actor, nullptr, seen[actor]++ });
+    }
+  }
+  for (int i = 0; i < count; ++i)
+  {
+    vtkProp* prop = props[i];
+    vtkActor* actor = vtkActor::SafeDownCast(prop);
+    if (prop && !vtkAssembly::SafeDownCast(prop) && !(actor && Internals::IsTraceable(actor)))
+    {
+      result.OpenGLProps.push_back(prop);
+    }
+  }
+
+  // Convert; actors found to need OpenGL go to the OpenGL list (if the render state has them)
+  for (const Leaf& leaf : leaves)
+  {
+    if (in.ConvertActor(leaf, result.GeometriesConverted))
+    {
+      ++result.TracedActors;
+    }
+    else if (leaf.Matrix == nullptr && inState.count(leaf.Actor))
+    {
+      result.OpenGLProps.push_back(leaf.Actor);
+    }
+  }
+
+  // Retire what this frame did not use
+  for (auto it = in.Instances.begin(); it != in.Instances.end();)
+  {
+    if (it->second.LastFrame != in.Frame)
+    {
+      in.Scene.setInstanceVisible(it->second.Instance, false);
+      in.FreeInstances.emplace_back(it->second.Instance, it->second.Material);
+      it = in.Instances.erase(it);
+    }
+    else
+    {
+      ++it;
+    }
+  }
+  for (auto it = in.Geometries.begin(); it != in.Geometries.end();)
+  {
+    if (it->second.LastFrame != in.Frame)
+    {
+      for (int k = 0; k < KindCount; ++k)
+      {
+        in.FreeObject(it->second.Objects[k]);
+      }
+      if (it->second.ColorTexture >= 0)
+      {
+        ++in.DeadTextures;
+      }
+      it = in.Geometries.erase(it);
+    }
+    else
+    {
+      ++it;
+    }
+  }
+  for (auto it = in.Surfaces.begin(); it != in.Surfaces.end();)
+  {
+    it = it->second.LastFrame != in.Frame ? in.Surfaces.erase(it) : std::next(it);
+  }
+  for (auto it = in.Textures.begin(); it != in.Textures.end();)
+  {
+    if (it->second.LastFrame != in.Frame)
+    {
+      ++in.DeadTextures;
+      it = in.Textures.erase(it);
+    }
+    else
+    {
+      ++it;
+    }
+  }
+}

@@ -1,0 +1,65 @@
+// Coloured shadows: light through a red transmissive slab (TRANSMITTANCE (1, 0.25, 0.25)) tints the
+// floor red; a default translucent sphere (Opacity 0.4, so transmittance 0.6) casts a grey half
+// shadow; an opaque sphere a full one.
+#include "WhittedTestUtilities.h"
+
+#include "vtkCamera.h"
+#include "vtkCubeSource.h"
+#include "vtkLight.h"
+#include "vtkRegressionTestImage.h"
+
+#include <iostream>
+
+int TestWhittedColoredShadow(int argc, char* argv[])
+{
+  using namespace whittedtest;
+  vtkNew<vtkRenderer> ren;
+  auto win = MakeWindow(300, 240);
+  win->AddRenderer(ren);
+  ren->AddActor(Floor(3.0, 6));
+
+  vtkNew<vtkCubeSource> slab;
+  slab->SetCenter(-1.0, 1.2, 0.0);
+  slab->SetXLength(1.4);
+  slab->SetYLength(0.1);
+  slab->SetZLength(1.4);
+  vtkNew<vtkPolyDataMapper> slabMapper;
+  slabMapper->SetInputConnection(slab->GetOutputPort());
+  vtkNew<vtkActor> glass;
+  glass->SetMapper(slabMapper);
+  glass->GetProperty()->SetColor(1.0, 0.2, 0.2);
+  glass->GetProperty()->SetOpacity(0.25);
+  glass->GetProperty()->SetSpecular(0.5);
+  SetTransmittance(glass->GetProperty(), 1.0, 0.25, 0.25);
+  ren->AddActor(glass);
+
+  auto ghost = Sphere(0.6, 0.9, -0.6, 0.5, 24);
+  ghost->GetProperty()->SetColor(0.4, 0.6, 1.0);
+  ghost->GetProperty()->SetOpacity(0.4);
+  ren->AddActor(ghost);
+
+  auto solid = Sphere(1.2, 0.5, 1.0, 0.4, 24);
+  solid->GetProperty()->SetColor(0.9, 0.9, 0.3);
+  ren->AddActor(solid);
+
+  vtkNew<vtkLight> light;
+  light->SetLightTypeToSceneLight();
+  light->SetPositional(true);
+  light->SetPosition(-0.4, 5.0, 0.6);
+  light->SetConeAngle(180);
+  ren->AddLight(light);
+  ren->SetBackground(0.2, 0.2, 0.25);
+
+  vtkCamera* cam = ren->GetActiveCamera();
+  cam->SetPosition(0.0, 4.0, 5.5);
+  cam->SetFocalPoint(0.0, 0.3, 0.0);
+  cam->SetViewAngle(38);
+  ren->ResetCameraClippingRange();
+
+  vtkNew<vtkWhittedPass> pass;
+  ren->SetPass(pass);
+  win->Render();
+  std::cout << pass->GetLastFrameReport();
+  int retVal = vtkRegressionTestImage(win);
+  return retVal == vtkTesting::FAILED ? EXIT_FAILURE : EXIT_SUCCESS;
+}

@@ -1,0 +1,32 @@
+#!/usr/bin/env python3
+"""The classic Whitted scene built in Python (whitted.scenes.classic_scene) through vtkWhittedPass: must match
+the C++ test's baseline (TestWhittedClassic.png), so the Python wrapping and keys behave like C++."""
+from vtkmodules.test import Testing
+from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+from whitted import vtkWhittedPass
+from whitted.scenes import classic_scene
+
+
+class TestWhittedPythonClassic(Testing.vtkTest):
+    def testClassic(self):
+        renderer = vtkRenderer()
+        window = vtkRenderWindow()
+        window.SetMultiSamples(0)
+        window.SetOffScreenRendering(True)
+        window.SetSize(320, 240)
+        window.AddRenderer(renderer)
+        classic_scene(renderer, 48)
+        whitted_pass = vtkWhittedPass()
+        renderer.SetPass(whitted_pass)
+        window.Render()
+        print(whitted_pass.GetLastFrameReport())
+        self.assertEqual(whitted_pass.GetLastNumberOfTracedActors(), 3)
+        self.assertGreater(whitted_pass.GetLastReflectionRays(), 0)
+        self.assertGreater(whitted_pass.GetLastRefractionRays(), 0)
+        self.assertGreater(whitted_pass.GetLastShadowRays(), 0)
+        self.assertImageMatch(window, "TestWhittedClassic.png")
+
+
+if __name__ == "__main__":
+    Testing.main([(TestWhittedPythonClassic, "test")])
