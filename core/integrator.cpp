@@ -37,12 +37,12 @@ Sample Integrator::trace(const Ray& ray, RayStats& stats) const {
   ++stats.primary;
   double tHit = kInfinity;
   Vec3 first(0.0);
-  float err = 0.0f;
-  out.color = (this->*kernel_)(ray, 0, Color(1.0f), stats, err, &tHit, &first);
+  PathState ps;
+  out.color = (this->*kernel_)(ray, 0, Color(1.0f), stats, ps, &tHit, &first);
   out.hit = std::isfinite(tHit);
-  out.alpha = out.hit ? 1.0f : scene_.backgroundAlpha;
+  out.alpha = std::clamp(1.0f - ps.escaped, 0.0f, 1.0f);
   out.firstHit = first;
-  out.errorBound = err;
+  out.errorBound = ps.errorBound;
   // Never let a non-finite value reach a pixel
   for (int i = 0; i < 3; ++i)
     if (!std::isfinite(out.color[i])) out.color[i] = 0.0f;
@@ -111,10 +111,16 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
 }
 
 template <bool Reflect, bool Refract, bool Shadows>
-Color Integrator::radiance(const Ray& ray, int depth, Color weight, RayStats& st, float& err, double* tHit,
+Color Integrator::radiance(const Ray& ray, int depth, Color weight, RayStats& st, PathState& ps, double* tHit,
                            Vec3* firstHit) const {
   Hit hit;
-  if (!scene_.intersect(ray, hit, &st.nodesVisited)) return scene_.environment(ray.dir, up_);
+  if (!scene_.intersect(ray, hit, &st.nodesVisited)) {
+    // Escaped: the background contributes in proportion to its alpha; the rest is left to what lies behind
+    // (VTK's cleared background or lower layers), expressed through the pixel's alpha (premultiplied output)
+    float a = scene_.backgroundAlpha;
+    ps.escaped += (weight.x + weight.y + weight.z) / 3.0f * (1.0f - a);
+    return a * scene_.environment(ray.dir, up_);
+  }
   if (tHit) *tHit = hit.t;
   SurfacePoint sp = scene_.surface(ray, hit);
   if (firstHit) *firstHit = sp.p;
@@ -125,7 +131,7 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, RayStats& st
   bool backFace = glm::dot(sp.ng, d) > 0.0;
   Vec3 nf = backFace ? -sp.ns : sp.ns;
   Vec3 ngf = backFace ? -sp.ng : sp.ng;
-  Vec3 v = -d;
+  Vec3 v = (depth == 0 && s_.viewFromEye) ? glm::normalize(s_.eye - sp.p) : -d;
 
   // Local shading, weighted by opacity as VTK blends it
   float opacity = m.opacity * (sp.hasColor && m.colorSource != ColorSource::Material ? sp.color.a : 1.0f);
@@ -186,17 +192,17 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, RayStats& st
       if (wmax <= 0.0f) return;
       if (depth >= s_.maxDepth) {
         ++st.savedByDepth;
-        err += wmax * remainingBound(depth + 1);
+        ps.errorBound += wmax * remainingBound(depth + 1);
         return;
       }
       if (wmax < s_.contributionThreshold) {
         ++st.savedByThreshold;
-        err += wmax * remainingBound(depth + 1);
+        ps.errorBound += wmax * remainingBound(depth + 1);
         return;
       }
       ++counter;
       double t = kInfinity;
-      Color c = radiance<Reflect, Refract, Shadows>(r, depth + 1, w, st, err, &t, nullptr);
+      Color c = radiance<Reflect, Refract, Shadows>(r, depth + 1, w, st, ps, &t, nullptr);
       if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) {
         // The refracted ray travelled t units inside the medium
         Color a = m.absorption * float(t);

@@ -19,6 +19,10 @@ struct IntegratorSettings {
   bool fresnel = false;          ///< Schlick Fresnel moves part of kt to kr at grazing angles. Default off.
   bool beerLambert = false;      ///< Absorb light inside transmissive objects by exp(-absorption * distance). Default off.
   bool headlightShading = false; ///< VTK light complexity 1 (one headlight): specular = pow(N.L, power).
+  /// VTK computes the specular view vector from the camera position even for parallel projection; set this (and
+  /// eye) to do the same for camera rays. Default off: the view vector is minus the ray direction.
+  bool viewFromEye = false;
+  Vec3 eye{0.0};                 ///< Camera position, used when viewFromEye is set.
 };
 
 /// Ray counts of one frame (summed over threads).
@@ -34,7 +38,9 @@ struct RayStats {
 /// Result of one camera ray.
 struct Sample {
   Color color{0.0f};    ///< Linear RGB.
-  float alpha = 0.0f;   ///< 1 for a hit, the background alpha for a miss.
+  /// Coverage: 1 minus the share of the ray's weight that escaped to a background of alpha < 1 (so a miss gets
+  /// the background alpha, an opaque hit 1, a translucent hit less). color is premultiplied by it.
+  float alpha = 0.0f;
   bool hit = false;
   Vec3 firstHit{0.0};   ///< World point of the first hit (for depth).
   float errorBound = 0.0f;  ///< Upper bound on the radiance left out by the depth cap and the threshold.
@@ -54,15 +60,21 @@ class Integrator {
   bool usesShadows() const { return shadows_; }
 
  private:
+  struct PathState;
   template <bool Reflect, bool Refract, bool Shadows>
-  Color radiance(const Ray& ray, int depth, Color weight, RayStats& st, float& err, double* tHit,
+  Color radiance(const Ray& ray, int depth, Color weight, RayStats& st, PathState& ps, double* tHit,
                  Vec3* firstHit) const;
   template <bool Shadows>
   Color shadeLocal(const SurfacePoint& sp, const Material& m, const Vec3& n, const Vec3& v, bool inside,
                    RayStats& st) const;
   float remainingBound(int depth) const;
 
-  using Kernel = Color (Integrator::*)(const Ray&, int, Color, RayStats&, float&, double*, Vec3*) const;
+  /// Accumulators of one camera ray's path tree.
+  struct PathState {
+    float errorBound = 0.0f;  ///< Radiance bound of rays left out.
+    float escaped = 0.0f;     ///< Weight (mean over RGB) that reached a background of alpha < 1, times 1 - alpha.
+  };
+  using Kernel = Color (Integrator::*)(const Ray&, int, Color, RayStats&, PathState&, double*, Vec3*) const;
   const Scene& scene_;
   IntegratorSettings s_;
   Vec3 up_;

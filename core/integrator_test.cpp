@@ -259,3 +259,78 @@ TEST(Integrator, ErrorEstimateBoundsTrueError) {
   EXPECT_GT(rms, 1e-3);  // the cheap settings really do lose something
   EXPECT_GE(fs.errorEstimateRms, rms);
 }
+
+// Over a transparent background (alpha 0, as in VTK's layered renderers) a translucent quad with kt = 0.75 gets
+// alpha 0.25 and premultiplied colour 0.25 * local; what is behind is left to the compositor.
+TEST(Integrator, TranslucentHitOverTransparentBackgroundHasPartialAlpha) {
+  Scene s;
+  Material m = unlit(Color(0.8f, 0.4f, 0.2f));
+  m.opacity = 0.25f;
+  m.transmittance = Color(0.75f);
+  addObject(s, makeGrid(Vec3(-1, -1, 0), Vec3(2, 0, 0), Vec3(0, 2, 0), 1, 1), m);
+  s.background = Color(0.0f, 0.0f, 1.0f);
+  s.backgroundAlpha = 0.0f;
+  s.commit();
+  Integrator integ(s, IntegratorSettings{}, Vec3(0, 1, 0));
+  RayStats st;
+  Sample smp = integ.trace(ray(Vec3(0, 0, 5), Vec3(0, 0, -1)), st);
+  EXPECT_NEAR(smp.alpha, 0.25f, 1e-6f);
+  EXPECT_NEAR(smp.color.x, 0.25f * 0.8f, 1e-6f);
+  EXPECT_NEAR(smp.color.z, 0.25f * 0.2f, 1e-6f);  // no background colour mixed in
+  s.backgroundAlpha = 1.0f;  // opaque background: traced through, alpha 1
+  s.commit();
+  Integrator opaque(s, IntegratorSettings{}, Vec3(0, 1, 0));
+  smp = opaque.trace(ray(Vec3(0, 0, 5), Vec3(0, 0, -1)), st);
+  EXPECT_NEAR(smp.alpha, 1.0f, 1e-6f);
+  EXPECT_NEAR(smp.color.z, 0.25f * 0.2f + 0.75f * 1.0f, 1e-6f);
+}
+
+// VTK's specular uses V = normalize(eye - P) even for parallel projection; with viewFromEye the tracer does too.
+TEST(Integrator, ViewFromEyeMatchesVtkParallelSpecular) {
+  Scene s;
+  Material m;
+  m.diffuse = 0.0f;
+  m.specular = 1.0f;
+  m.specularPower = 10.0f;
+  addObject(s, makeGrid(Vec3(-5, -5, 0), Vec3(10, 0, 0), Vec3(0, 10, 0), 1, 1), m);
+  Light l;
+  l.position = Vec3(0, 0, 1);  // directional, straight down -z
+  s.lights().push_back(l);
+  s.commit();
+  IntegratorSettings is;
+  is.viewFromEye = true;
+  is.eye = Vec3(0, 0, 3);
+  Integrator integ(s, is, Vec3(0, 1, 0));
+  RayStats st;
+  // A parallel camera ray at x = 1 hits P = (1, 0, 0): R = (0,0,1), V = normalize((0,0,3) - P)
+  Sample smp = integ.trace(ray(Vec3(1, 0, 3), Vec3(0, 0, -1)), st);
+  float expected = float(std::pow(3.0 / std::sqrt(10.0), 10.0));
+  EXPECT_NEAR(smp.color.x, expected, 1e-5f);
+  is.viewFromEye = false;  // V = -d = (0,0,1): full highlight
+  Integrator plain(s, is, Vec3(0, 1, 0));
+  EXPECT_NEAR(plain.trace(ray(Vec3(1, 0, 3), Vec3(0, 0, -1)), st).color.x, 1.0f, 1e-5f);
+}
+
+// InterpolateScalarsBeforeMapping: the interpolated coordinate is looked up (nearest) in the colour map before
+// lighting, so the specular highlight keeps the specular colour instead of being tinted.
+TEST(Integrator, ColorMapLookupBeforeLighting) {
+  Scene s;
+  TriangleMesh quad = makeGrid(Vec3(-1, -1, 0), Vec3(2, 0, 0), Vec3(0, 2, 0), 1, 1);
+  quad.colorCoords = {0.0f, 1.0f, 0.0f, 1.0f};  // varies along x
+  Texture lut;
+  lut.width = 4;
+  lut.height = 1;
+  lut.rgba = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255};
+  quad.colorMap = int32_t(s.addTexture(lut));
+  Material m = unlit(Color(1.0f));
+  m.colorSource = ColorSource::ScalarsAmbientAndDiffuse;
+  addObject(s, quad, m);
+  s.commit();
+  Integrator integ(s, IntegratorSettings{}, Vec3(0, 1, 0));
+  RayStats st;
+  // x = -0.9 -> coordinate 0.05 -> texel 0 (red); x = 0.3 -> 0.65 -> texel 2 (blue)
+  Color a = integ.trace(ray(Vec3(-0.9, 0, 1), Vec3(0, 0, -1)), st).color;
+  Color b = integ.trace(ray(Vec3(0.3, 0, 1), Vec3(0, 0, -1)), st).color;
+  EXPECT_EQ(a, Color(1, 0, 0));
+  EXPECT_EQ(b, Color(0, 0, 1));
+}

@@ -145,7 +145,7 @@ class FrameJob {
             depth = std::min(depth, float(std::clamp(camera_.glDepth(smp.firstHit), 0.0, 1.0)));
             sum += smp.color;
           } else {
-            sum += missColor(py);
+            sum += scene_.backgroundAlpha * missColor(py);  // premultiplied
           }
           alpha += smp.alpha;
           err += smp.errorBound;

@@ -14,7 +14,7 @@ namespace whitted {
 /// Linear float buffers, rows bottom to top (OpenGL / VTK order).
 struct FrameBuffer {
   int width = 0, height = 0;
-  std::vector<Color4> color;   ///< Linear RGBA (not clamped).
+  std::vector<Color4> color;   ///< Linear RGBA, premultiplied by alpha (not clamped).
   std::vector<float> depth;    ///< OpenGL window depth in [0,1]; 1 where nothing was hit.
   std::vector<uint8_t> traced; ///< 1 where this process traced the pixel (see RenderSettings::tileStride).
   void resize(int w, int h);

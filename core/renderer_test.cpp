@@ -62,17 +62,20 @@ TEST(Renderer, DepthIsOpenGLDepthOfTheProjection) {
   }
 }
 
+// Misses: depth 1, alpha = background alpha, colour premultiplied by it.
 TEST(Renderer, MissesGetDepthOneAndBackgroundAlpha) {
-  Scene s;
-  s.background = Color(0.1f, 0.2f, 0.3f);
-  s.backgroundAlpha = 0.0f;
-  s.commit();
-  FrameBuffer fb;
-  render(s, Camera::perspective(Vec3(0, 0, 5), Vec3(0), Vec3(0, 1, 0), 30, 1, 0.1, 10), RenderSettings{}, 8, 8, fb);
-  for (std::size_t i = 0; i < fb.color.size(); ++i) {
-    EXPECT_EQ(fb.depth[i], 1.0f);
-    EXPECT_EQ(fb.color[i].a, 0.0f);
-    EXPECT_FLOAT_EQ(fb.color[i].z, 0.3f);
+  for (float a : {0.0f, 0.5f, 1.0f}) {
+    Scene s;
+    s.background = Color(0.1f, 0.2f, 0.3f);
+    s.backgroundAlpha = a;
+    s.commit();
+    FrameBuffer fb;
+    render(s, Camera::perspective(Vec3(0, 0, 5), Vec3(0), Vec3(0, 1, 0), 30, 1, 0.1, 10), RenderSettings{}, 8, 8, fb);
+    for (std::size_t i = 0; i < fb.color.size(); ++i) {
+      EXPECT_EQ(fb.depth[i], 1.0f);
+      EXPECT_EQ(fb.color[i].a, a);
+      EXPECT_FLOAT_EQ(fb.color[i].z, 0.3f * a);
+    }
   }
 }
 

@@ -335,7 +335,7 @@ SceneStats Scene::stats() const {
     s.capsules += o.type == GeometryType::Capsules ? o.leafPrims.size() : 0;
     s.bvhNodes += o.bvh.nodes().size();
     s.bvhBytes += o.bvh.memoryBytes() + o.leafPrims.capacity() * sizeof(uint32_t);
-    s.geometryBytes += o.mesh.positions.capacity() * sizeof(Vec3) + o.mesh.triangles.capacity() * sizeof(glm::uvec3) +
+    s.geometryBytes += o.mesh.colorCoords.capacity() * sizeof(float) + o.mesh.positions.capacity() * sizeof(Vec3) + o.mesh.triangles.capacity() * sizeof(glm::uvec3) +
                        o.leafTris.capacity() * sizeof(glm::uvec3) + o.mesh.normals.capacity() * sizeof(Vec3f) +
                        o.mesh.vertexColors.capacity() * sizeof(Color4) +
                        o.mesh.triangleColors.capacity() * sizeof(Color4) + o.mesh.texcoords.capacity() * sizeof(Vec2f) +
@@ -513,7 +513,14 @@ SurfacePoint Scene::surface(const Ray& ray, const Hit& hit) const {
         Vec3 n = b0 * Vec3(m.normals[t.x]) + b1 * Vec3(m.normals[t.y]) + b2 * Vec3(m.normals[t.z]);
         ns = safeNormalize(n, ng);
       }
-      if (!m.triangleColors.empty() && hit.prim < m.triangleColors.size()) {
+      if (m.colorMap >= 0 && size_t(m.colorMap) < textures_.size() && m.colorCoords.size() == m.positions.size()) {
+        float c = float(b0) * m.colorCoords[t.x] + float(b1) * m.colorCoords[t.y] + float(b2) * m.colorCoords[t.z];
+        const Texture& lut = textures_[size_t(m.colorMap)];
+        int w = std::max(1, lut.width);
+        int i = std::isfinite(c) ? std::clamp(int(std::floor(c * float(w))), 0, w - 1) : 0;
+        sp.color = lut.sample((float(i) + 0.5f) / float(w), 0.5f / float(std::max(1, lut.height)));
+        sp.hasColor = true;
+      } else if (!m.triangleColors.empty() && hit.prim < m.triangleColors.size()) {
         sp.color = m.triangleColors[hit.prim];
         sp.hasColor = true;
       } else if (!m.vertexColors.empty() && m.vertexColors.size() == m.positions.size()) {

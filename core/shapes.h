@@ -21,6 +21,10 @@ struct TriangleMesh {
   std::vector<Color4> vertexColors;       ///< Optional per-vertex RGBA in [0,1].
   std::vector<Color4> triangleColors;     ///< Optional per-triangle RGBA in [0,1] (wins over vertexColors).
   std::vector<Vec2f> texcoords;           ///< Optional per-vertex texture coordinates.
+  /// Optional per-vertex colour-map coordinate in [0,1] (VTK's InterpolateScalarsBeforeMapping): interpolated,
+  /// then looked up in Scene texture colorMap (nearest, clamped, row 0) as the geometry colour, before lighting.
+  std::vector<float> colorCoords;
+  int32_t colorMap = -1;
 };
 
 /// A set of spheres (VTK's points rendered as spheres).

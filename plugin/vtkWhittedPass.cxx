@@ -233,6 +233,11 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
   rs.integrator.contributionThreshold = static_cast<float>(this->ContributionThreshold);
   rs.integrator.fresnel = this->Fresnel;
   rs.integrator.headlightShading = conv.HeadlightShading;
+  // VTK's specular view vector comes from the camera position, also for parallel projection
+  rs.integrator.viewFromEye = cam->GetParallelProjection() != 0;
+  double eye[3];
+  cam->GetPosition(eye);
+  rs.integrator.eye = whitted::Vec3(eye[0], eye[1], eye[2]);
   rs.samplesPerPixel = this->SamplesPerPixel;
   rs.adaptive = this->AdaptiveSampling;
   rs.threads = this->NumberOfThreads;

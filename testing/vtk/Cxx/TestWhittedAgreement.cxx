@@ -213,18 +213,8 @@ bool Compare(const char* name, int complexity, bool parallel, const std::string&
   AddLights(ren, complexity);
   ren->GetActiveCamera()->SetParallelProjection(parallel);
   ren->GetActiveCamera()->SetParallelScale(2.6);
-  if (parallel)
-  {
-    // Known difference: with a parallel camera VTK's specular term uses V = normalize(eye - P) (the
-    // camera position, as if perspective) while the tracer uses the ray direction. Diffuse shading,
-    // normals, colours and depth are compared; specular is switched off.
-    vtkActorCollection* actors = ren->GetActors();
-    actors->InitTraversal();
-    while (vtkActor* a = actors->GetNextActor())
-    {
-      a->GetProperty()->SetSpecular(0.0);
-    }
-  }
+  // With a parallel camera VTK's specular term uses V = normalize(eye - P) (the camera position, as if
+  // perspective); the pass does the same (IntegratorSettings::viewFromEye), so specular stays on here.
 
   // VTK's OpenGL image
   win->Render();
