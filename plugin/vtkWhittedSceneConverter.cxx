@@ -342,6 +342,26 @@ struct vtkWhittedSceneConverter::Internals
     vtkWhittedPolyDataConverter::Convert(poly, mapper, opts, radiusScale, c);
     ++converted;
 
+    if (g.ColorTexture >= 0)
+    {
+      ++this->DeadTextures;
+      g.ColorTexture = -1;
+    }
+    if (c.HasColorTexture && c.ColorTexture.width > 0)
+    {
+      g.ColorTexture = static_cast<int>(this->Scene.addTexture(std::move(c.ColorTexture)));
+      // InterpolateScalarsBeforeMapping: the interpolated coordinate is looked up in the colour map
+      // before lighting, as VTK's shader does (so highlights are not tinted by the map)
+      if (c.Mesh.texcoords.size() == c.Mesh.positions.size())
+      {
+        c.Mesh.colorCoords.resize(c.Mesh.texcoords.size());
+        for (size_t i = 0; i < c.Mesh.texcoords.size(); ++i)
+        {
+          c.Mesh.colorCoords[i] = c.Mesh.texcoords[i].x;
+        }
+        c.Mesh.colorMap = g.ColorTexture;
+      }
+    }
     const bool has[KindCount] = { !c.Mesh.triangles.empty(), !c.Spheres.centers.empty(),
       !c.Capsules.p0.empty() };
     for (int k = 0; k < KindCount; ++k)
@@ -354,15 +374,6 @@ struct vtkWhittedSceneConverter::Internals
       {
         this->FreeObject(g.Objects[k]);
       }
-    }
-    if (g.ColorTexture >= 0)
-    {
-      ++this->DeadTextures;
-      g.ColorTexture = -1;
-    }
-    if (c.HasColorTexture && c.ColorTexture.width > 0)
-    {
-      g.ColorTexture = static_cast<int>(this->Scene.addTexture(std::move(c.ColorTexture)));
     }
     g.ScalarColors = c.ScalarColors;
     g.TCoords = c.TCoords;
@@ -435,20 +446,15 @@ struct vtkWhittedSceneConverter::Internals
       m.opacity = static_cast<float>(piece.Opacity);
     }
 
-    // Scalar colours replace ambient and diffuse colours (VTK 9.1)
-    if (g.ScalarColors)
+    // Scalar colours replace ambient and diffuse colours (VTK 9.1); so do colour-map lookups of
+    // interpolated scalars (the mesh carries the coordinates and the map)
+    if (g.ScalarColors || (g.ColorTexture >= 0 && g.TCoords))
     {
       m.colorSource = whitted::ColorSource::ScalarsAmbientAndDiffuse;
     }
     if (actorTexture >= 0 && g.TCoords)
     {
       m.texture = actorTexture;
-    }
-    else if (g.ColorTexture >= 0 && g.TCoords)
-    {
-      // Interpolated scalars through the colour map: the texel replaces the colours
-      m.texture = g.ColorTexture;
-      m.ambientColor = m.diffuseColor = Color(1.0f);
     }
 
     // Whitted terms from the property's information keys; defaults keep VTK's look

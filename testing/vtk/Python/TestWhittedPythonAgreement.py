@@ -122,7 +122,8 @@ def scalars(ren):
     banded.SetInputConnection(elevation.GetOutputPort())
     banded.SetLookupTable(bands)
     banded.InterpolateScalarsBeforeMappingOn()
-    a = actor_of(banded)
+    # Specular on: the colour map must be looked up before lighting, so the highlight is not tinted
+    a = actor_of(banded, specular=0.6)
     a.GetProperty().SetAmbient(0.1)
     ren.AddActor(a)
 
