@@ -20,9 +20,9 @@ struct BvhNode {
 };
 
 struct BvhBuildOptions {
-  int maxLeafSize = 8;        ///< Leaves never hold more primitives than this (unless all centroids coincide).
-  int bins = 16;              ///< SAH bins per axis.
-  double traversalCost = 1.0; ///< SAH cost of visiting a node, relative to one primitive test.
+  int maxLeafSize = 8;         ///< Leaves never hold more primitives than this (unless all centroids coincide).
+  int bins = 16;               ///< SAH bins per axis.
+  double traversalCost = 1.0;  ///< SAH cost of visiting a node, relative to one primitive test.
 };
 
 /// Ray data precomputed once per traversal.

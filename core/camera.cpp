@@ -34,8 +34,8 @@ Camera Camera::perspective(const Vec3& eye, const Vec3& focal, const Vec3& up, d
 Camera Camera::parallel(const Vec3& eye, const Vec3& focal, const Vec3& up, double parallelScale, double aspect,
                         double nearDist, double farDist) {
   Mat4 view = glm::lookAt(eye, focal, up);
-  Mat4 proj = glm::ortho(-parallelScale * aspect, parallelScale * aspect, -parallelScale, parallelScale, nearDist,
-                         farDist);
+  Mat4 proj =
+      glm::ortho(-parallelScale * aspect, parallelScale * aspect, -parallelScale, parallelScale, nearDist, farDist);
   return fromViewProjection(proj * view);
 }
 

@@ -11,18 +11,18 @@ namespace whitted {
 
 /// Tracing settings. Defaults are those of vtkWhittedPass.
 struct IntegratorSettings {
-  int maxDepth = 5;              ///< Secondary bounces per path (0 = local shading only). Default 5.
-  bool shadows = true;           ///< Trace shadow rays. Default on.
-  bool reflections = true;       ///< Trace mirror rays for kr > 0. Default on.
-  bool refractions = true;       ///< Bend transmitted rays by the IOR (off: straight-through transmission). Default on.
+  int maxDepth = 5;         ///< Secondary bounces per path (0 = local shading only). Default 5.
+  bool shadows = true;      ///< Trace shadow rays. Default on.
+  bool reflections = true;  ///< Trace mirror rays for kr > 0. Default on.
+  bool refractions = true;  ///< Bend transmitted rays by the IOR (off: straight-through transmission). Default on.
   float contributionThreshold = 1.0f / 255.0f;  ///< Rays whose weight falls below this are not traced. Default 1/255.
-  bool fresnel = false;          ///< Schlick Fresnel moves part of kt to kr at grazing angles. Default off.
-  bool beerLambert = false;      ///< Absorb light inside transmissive objects by exp(-absorption * distance). Default off.
-  bool headlightShading = false; ///< VTK light complexity 1 (one headlight): specular = pow(N.L, power).
+  bool fresnel = false;      ///< Schlick Fresnel moves part of kt to kr at grazing angles. Default off.
+  bool beerLambert = false;  ///< Absorb light inside transmissive objects by exp(-absorption * distance). Default off.
+  bool headlightShading = false;  ///< VTK light complexity 1 (one headlight): specular = pow(N.L, power).
   /// VTK computes the specular view vector from the camera position even for parallel projection; set this (and
   /// eye) to do the same for camera rays. Default off: the view vector is minus the ray direction.
   bool viewFromEye = false;
-  Vec3 eye{0.0};                 ///< Camera position, used when viewFromEye is set.
+  Vec3 eye{0.0};  ///< Camera position, used when viewFromEye is set.
 };
 
 /// Ray counts of one frame (summed over threads).
@@ -37,12 +37,12 @@ struct RayStats {
 
 /// Result of one camera ray.
 struct Sample {
-  Color color{0.0f};    ///< Linear RGB.
+  Color color{0.0f};  ///< Linear RGB.
   /// Coverage: 1 minus the share of the ray's weight that escaped to a background of alpha < 1 (so a miss gets
   /// the background alpha, an opaque hit 1, a translucent hit less). color is premultiplied by it.
   float alpha = 0.0f;
   bool hit = false;
-  Vec3 firstHit{0.0};   ///< World point of the first hit (for depth).
+  Vec3 firstHit{0.0};       ///< World point of the first hit (for depth).
   float errorBound = 0.0f;  ///< Upper bound on the radiance left out by the depth cap and the threshold.
 };
 

@@ -277,7 +277,7 @@ TEST(Integrator, TranslucentHitOverTransparentBackgroundHasPartialAlpha) {
   EXPECT_NEAR(smp.alpha, 0.25f, 1e-6f);
   EXPECT_NEAR(smp.color.x, 0.25f * 0.8f, 1e-6f);
   EXPECT_NEAR(smp.color.z, 0.25f * 0.2f, 1e-6f);  // no background colour mixed in
-  s.backgroundAlpha = 1.0f;  // opaque background: traced through, alpha 1
+  s.backgroundAlpha = 1.0f;                       // opaque background: traced through, alpha 1
   s.commit();
   Integrator opaque(s, IntegratorSettings{}, Vec3(0, 1, 0));
   smp = opaque.trace(ray(Vec3(0, 0, 5), Vec3(0, 0, -1)), st);

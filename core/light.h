@@ -8,15 +8,15 @@ namespace whitted {
 /// A light. Directional lights shine from position toward focalPoint; positional lights sit at position and are
 /// spot lights when coneAngle < 90 degrees (VTK's rule), aimed at focalPoint.
 struct Light {
-  bool positional = false;       ///< vtkLight Positional. Default false (directional).
-  Vec3 position{0.0, 0.0, 1.0};  ///< World position (vtkLight GetTransformedPosition).
-  Vec3 focalPoint{0.0};          ///< World focal point (vtkLight GetTransformedFocalPoint).
-  Color color{1.0f};             ///< vtkLight DiffuseColor. Default white.
-  float intensity = 1.0f;        ///< vtkLight Intensity. Default 1.
+  bool positional = false;          ///< vtkLight Positional. Default false (directional).
+  Vec3 position{0.0, 0.0, 1.0};     ///< World position (vtkLight GetTransformedPosition).
+  Vec3 focalPoint{0.0};             ///< World focal point (vtkLight GetTransformedFocalPoint).
+  Color color{1.0f};                ///< vtkLight DiffuseColor. Default white.
+  float intensity = 1.0f;           ///< vtkLight Intensity. Default 1.
   Vec3 attenuation{1.0, 0.0, 0.0};  ///< Constant, linear, quadratic attenuation (positional only). Default (1,0,0).
-  double coneAngle = 30.0;       ///< Half-angle of the spot cone in degrees; >= 90 means not a spot. Default 30.
-  double exponent = 1.0;         ///< Spot exponent. Default 1.
-  bool castShadows = true;       ///< Whether shadow rays are traced toward this light. Default true.
+  double coneAngle = 30.0;          ///< Half-angle of the spot cone in degrees; >= 90 means not a spot. Default 30.
+  double exponent = 1.0;            ///< Spot exponent. Default 1.
+  bool castShadows = true;          ///< Whether shadow rays are traced toward this light. Default true.
 
   /// Direction the light travels (unit), from position toward focal point.
   Vec3 direction() const;

@@ -11,9 +11,9 @@ namespace whitted {
 
 /// How the colour of a surface point combines with the material, mirroring VTK's mapper.
 enum class ColorSource : uint8_t {
-  Material,        ///< Property colours only.
-  ScalarsDiffuse,  ///< Geometry colour replaces the diffuse colour (VTK ScalarMaterialMode Diffuse).
-  ScalarsAmbient,  ///< Geometry colour replaces the ambient colour.
+  Material,                  ///< Property colours only.
+  ScalarsDiffuse,            ///< Geometry colour replaces the diffuse colour (VTK ScalarMaterialMode Diffuse).
+  ScalarsAmbient,            ///< Geometry colour replaces the ambient colour.
   ScalarsAmbientAndDiffuse,  ///< Geometry colour replaces both (VTK's default when colouring by scalars).
 };
 
@@ -33,20 +33,20 @@ struct Material {
   ColorSource colorSource = ColorSource::Material;
 
   // Whitted terms
-  Color reflectance{0.0f};     ///< kr: weight of the mirror-reflected ray, RGB in [0,1]. Default 0.
-  Color transmittance{0.0f};   ///< kt: weight of the refracted ray and shadow-ray attenuation per crossing. Default 0.
-  float ior = 1.0f;            ///< Index of refraction of the inside (outside is vacuum, 1). Default 1.
-  Color absorption{0.0f};      ///< Beer-Lambert coefficient per world unit, used only when enabled. Default 0.
+  Color reflectance{0.0f};    ///< kr: weight of the mirror-reflected ray, RGB in [0,1]. Default 0.
+  Color transmittance{0.0f};  ///< kt: weight of the refracted ray and shadow-ray attenuation per crossing. Default 0.
+  float ior = 1.0f;           ///< Index of refraction of the inside (outside is vacuum, 1). Default 1.
+  Color absorption{0.0f};     ///< Beer-Lambert coefficient per world unit, used only when enabled. Default 0.
 
-  int32_t texture = -1;        ///< Index into Scene textures, or -1. The texel modulates the diffuse/ambient colour.
+  int32_t texture = -1;  ///< Index into Scene textures, or -1. The texel modulates the diffuse/ambient colour.
 };
 
 /// RGBA8 texture, rows bottom to top (OpenGL/VTK order).
 struct Texture {
   int width = 0, height = 0;
-  std::vector<uint8_t> rgba;   ///< width*height*4 bytes.
-  bool repeat = true;          ///< Repeat (true) or clamp to edge (false).
-  bool interpolate = false;    ///< Bilinear (true) or nearest (false), as vtkTexture InterpolateOn/Off.
+  std::vector<uint8_t> rgba;  ///< width*height*4 bytes.
+  bool repeat = true;         ///< Repeat (true) or clamp to edge (false).
+  bool interpolate = false;   ///< Bilinear (true) or nearest (false), as vtkTexture InterpolateOn/Off.
   /// Samples at (s, t) in texture coordinates; returns RGBA in [0,1].
   Color4 sample(float s, float t) const;
 };

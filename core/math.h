@@ -29,11 +29,17 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kPi = 3.14159265358979323846;
 
 /// Largest component of a colour (used for contribution weights).
-inline float maxComponent(const Color& c) { return std::max(c.x, std::max(c.y, c.z)); }
+inline float maxComponent(const Color& c) {
+  return std::max(c.x, std::max(c.y, c.z));
+}
 
 /// True when every component is finite.
-inline bool isFinite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-inline bool isFinite(const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+inline bool isFinite(const Vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+inline bool isFinite(const Vec3f& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 /// gamma(n) of Higham / pbrt: bound on the relative error of n chained double-precision operations.
 constexpr double gammaBound(int n) {
@@ -79,9 +85,13 @@ struct Bounds3 {
 };
 
 /// Transforms a point by an affine 4x4 matrix.
-inline Vec3 transformPoint(const Mat4& m, const Vec3& p) { return Vec3(m * Vec4(p, 1.0)); }
+inline Vec3 transformPoint(const Mat4& m, const Vec3& p) {
+  return Vec3(m * Vec4(p, 1.0));
+}
 /// Transforms a direction (no translation).
-inline Vec3 transformVector(const Mat4& m, const Vec3& v) { return Mat3(m) * v; }
+inline Vec3 transformVector(const Mat4& m, const Vec3& v) {
+  return Mat3(m) * v;
+}
 /// Box of the 8 transformed corners.
 Bounds3 transformBounds(const Mat4& m, const Bounds3& b);
 

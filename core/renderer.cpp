@@ -17,7 +17,9 @@ void FrameBuffer::resize(int w, int h) {
   traced.assign(n, 0);
 }
 
-int hardwareThreads() { return std::max(1u, std::thread::hardware_concurrency()); }
+int hardwareThreads() {
+  return std::max(1u, std::thread::hardware_concurrency());
+}
 
 namespace {
 
@@ -31,8 +33,7 @@ struct PixelResult {
 class FrameJob {
  public:
   FrameJob(const Scene& scene, const Camera& camera, const RenderSettings& s, int w, int h, FrameBuffer& fb)
-      : scene_(scene), camera_(camera), s_(s), w_(w), h_(h), fb_(fb),
-        integ_(scene, s.integrator, camera.up()) {
+      : scene_(scene), camera_(camera), s_(s), w_(w), h_(h), fb_(fb), integ_(scene, s.integrator, camera.up()) {
     ts_ = std::max(1, s.tileSize);
     tilesX_ = (w + ts_ - 1) / ts_;
     tilesY_ = (h + ts_ - 1) / ts_;

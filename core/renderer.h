@@ -14,24 +14,24 @@ namespace whitted {
 /// Linear float buffers, rows bottom to top (OpenGL / VTK order).
 struct FrameBuffer {
   int width = 0, height = 0;
-  std::vector<Color4> color;   ///< Linear RGBA, premultiplied by alpha (not clamped).
-  std::vector<float> depth;    ///< OpenGL window depth in [0,1]; 1 where nothing was hit.
-  std::vector<uint8_t> traced; ///< 1 where this process traced the pixel (see RenderSettings::tileStride).
+  std::vector<Color4> color;    ///< Linear RGBA, premultiplied by alpha (not clamped).
+  std::vector<float> depth;     ///< OpenGL window depth in [0,1]; 1 where nothing was hit.
+  std::vector<uint8_t> traced;  ///< 1 where this process traced the pixel (see RenderSettings::tileStride).
   void resize(int w, int h);
 };
 
 struct RenderSettings {
   IntegratorSettings integrator;
-  int samplesPerPixel = 1;       ///< Stratified samples per pixel; 1 = the pixel centre. Default 1.
-  bool adaptive = false;         ///< Centre sample first, full samples only where neighbours differ. Default off.
+  int samplesPerPixel = 1;  ///< Stratified samples per pixel; 1 = the pixel centre. Default 1.
+  bool adaptive = false;    ///< Centre sample first, full samples only where neighbours differ. Default off.
   float adaptiveThreshold = 2.0f / 255.0f;  ///< Neighbour difference (max channel) that triggers supersampling.
-  int threads = 0;               ///< Worker threads; 0 = all cores. Default 0.
-  int tileSize = 16;             ///< Tile edge in pixels. Default 16.
+  int threads = 0;                          ///< Worker threads; 0 = all cores. Default 0.
+  int tileSize = 16;                        ///< Tile edge in pixels. Default 16.
   /// Pixel split between processes: this process traces tiles with index % tileStride == tileOffset, and writes
   /// depth 1 / alpha 0 elsewhere (for sort-last compositing). Default 1/0 = everything.
   int tileStride = 1;
   int tileOffset = 0;
-  bool screenGradient = true;    ///< Primary misses get the background as a vertical screen-space gradient.
+  bool screenGradient = true;  ///< Primary misses get the background as a vertical screen-space gradient.
   /// Called on the calling thread between tiles; return true to abort the frame. May be empty.
   std::function<bool()> abortCheck;
   /// Called on the calling thread with the fraction done. May be empty.
@@ -39,12 +39,12 @@ struct RenderSettings {
 };
 
 struct FrameStats {
-  double secondsTrace = 0.0;     ///< Wall time of tracing (all passes).
+  double secondsTrace = 0.0;  ///< Wall time of tracing (all passes).
   RayStats rays;
-  uint64_t samples = 0;          ///< Camera samples taken.
+  uint64_t samples = 0;             ///< Camera samples taken.
   uint64_t pixelsSupersampled = 0;  ///< Adaptive mode: pixels that got the full sample count.
-  double errorEstimateRms = 0.0; ///< RMS over pixels of the per-pixel bound on radiance left out (clamped to 1).
-  double errorEstimateMax = 0.0; ///< Largest per-pixel bound.
+  double errorEstimateRms = 0.0;    ///< RMS over pixels of the per-pixel bound on radiance left out (clamped to 1).
+  double errorEstimateMax = 0.0;    ///< Largest per-pixel bound.
   bool aborted = false;
   int threads = 1;
   bool kernelReflection = false, kernelRefraction = false, kernelShadows = false;

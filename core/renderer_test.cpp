@@ -1,7 +1,7 @@
 // Renderer and camera tests: identical output for any thread count, depth = projected depth, adaptive sampling,
 // image split between processes, abort, camera round trips.
-#include "image.h"
 #include "renderer.h"
+#include "image.h"
 #include "scenes.h"
 
 #include <gtest/gtest.h>
@@ -56,7 +56,8 @@ TEST(Renderer, DepthIsOpenGLDepthOfTheProjection) {
                           : Camera::perspective(Vec3(0), Vec3(0, 0, -1), Vec3(0, 1, 0), 50.0, 1.5, n, f);
     FrameBuffer fb;
     render(s, cam, RenderSettings{}, 30, 20, fb);
-    double zNdc = parallel ? (-2.0 / (f - n)) * (-z) - (f + n) / (f - n) : (f + n) / (f - n) - 2.0 * f * n / ((f - n) * z);
+    double zNdc =
+        parallel ? (-2.0 / (f - n)) * (-z) - (f + n) / (f - n) : (f + n) / (f - n) - 2.0 * f * n / ((f - n) * z);
     double expected = 0.5 * zNdc + 0.5;
     for (float d : fb.depth) EXPECT_NEAR(d, expected, 1e-6) << (parallel ? "parallel" : "perspective");
   }

@@ -9,13 +9,13 @@ std::string frameReport(const FrameStats& f, const SceneStats& s, const CommitSt
   char buf[2048];
   double traced = double(f.rays.traced());
   double mrays = f.secondsTrace > 0.0 ? traced / f.secondsTrace * 1e-6 : 0.0;
-  int n = std::snprintf(
-      buf, sizeof buf,
-      "Whitted frame report\n"
-      "  image            %d x %d, %llu samples, %d threads%s\n"
-      "  time             build %.2f ms (%d object BVHs rebuilt, top level %s), trace %.2f ms",
-      w, h, (unsigned long long)f.samples, f.threads, f.aborted ? " (ABORTED)" : "", c.secondsBuild * 1e3,
-      c.objectsRebuilt, c.topLevelRebuilt ? "rebuilt" : "kept", f.secondsTrace * 1e3);
+  int n =
+      std::snprintf(buf, sizeof buf,
+                    "Whitted frame report\n"
+                    "  image            %d x %d, %llu samples, %d threads%s\n"
+                    "  time             build %.2f ms (%d object BVHs rebuilt, top level %s), trace %.2f ms",
+                    w, h, (unsigned long long)f.samples, f.threads, f.aborted ? " (ABORTED)" : "", c.secondsBuild * 1e3,
+                    c.objectsRebuilt, c.topLevelRebuilt ? "rebuilt" : "kept", f.secondsTrace * 1e3);
   std::string out(buf, std::size_t(n));
   if (otherLabel) {
     n = std::snprintf(buf, sizeof buf, ", %s %.2f ms", otherLabel, secondsOther * 1e3);
@@ -33,9 +33,8 @@ std::string frameReport(const FrameStats& f, const SceneStats& s, const CommitSt
       (unsigned long long)f.rays.primary, (unsigned long long)f.rays.shadow, (unsigned long long)f.rays.reflection,
       (unsigned long long)f.rays.refraction, mrays, (unsigned long long)f.rays.savedByThreshold,
       (unsigned long long)f.rays.savedByDepth, f.kernelReflection ? "on" : "off", f.kernelRefraction ? "on" : "off",
-      f.kernelShadows ? "on" : "off", s.triangles, s.spheres, s.capsules, s.objects, s.instances,
-      c.invalidPrimitives, s.bvhNodes, s.bvhBytes / 1048576.0, s.geometryBytes / 1048576.0, f.errorEstimateRms,
-      f.errorEstimateMax);
+      f.kernelShadows ? "on" : "off", s.triangles, s.spheres, s.capsules, s.objects, s.instances, c.invalidPrimitives,
+      s.bvhNodes, s.bvhBytes / 1048576.0, s.geometryBytes / 1048576.0, f.errorEstimateRms, f.errorEstimateMax);
   out.append(buf, std::size_t(n));
   return out;
 }

@@ -180,7 +180,9 @@ void Scene::setInstanceTransform(uint32_t id, const Mat4& toWorld) {
   in.normalToWorld = glm::transpose(Mat3(in.toObject));
   topDirty_ = true;
 }
-void Scene::setInstanceMaterial(uint32_t id, uint32_t material) { instances_[id].material = material; }
+void Scene::setInstanceMaterial(uint32_t id, uint32_t material) {
+  instances_[id].material = material;
+}
 void Scene::setInstanceVisible(uint32_t id, bool visible) {
   if (instances_[id].visible != visible) topDirty_ = true;
   instances_[id].visible = visible;
@@ -213,8 +215,8 @@ template <typename Fn>
 void Scene::forEachVisibleInstance(Fn&& fn) const {
   for (uint32_t i = 0; i < instances_.size(); ++i) {
     const Instance& in = instances_[i];
-    if (!in.visible || in.object >= objects_.size() || !objects_[in.object].alive ||
-        objects_[in.object].bvh.empty() || in.material >= materials_.size())
+    if (!in.visible || in.object >= objects_.size() || !objects_[in.object].alive || objects_[in.object].bvh.empty() ||
+        in.material >= materials_.size())
       continue;
     fn(i, in);
   }
@@ -335,9 +337,9 @@ SceneStats Scene::stats() const {
     s.capsules += o.type == GeometryType::Capsules ? o.leafPrims.size() : 0;
     s.bvhNodes += o.bvh.nodes().size();
     s.bvhBytes += o.bvh.memoryBytes() + o.leafPrims.capacity() * sizeof(uint32_t);
-    s.geometryBytes += o.mesh.colorCoords.capacity() * sizeof(float) + o.mesh.positions.capacity() * sizeof(Vec3) + o.mesh.triangles.capacity() * sizeof(glm::uvec3) +
-                       o.leafTris.capacity() * sizeof(glm::uvec3) + o.mesh.normals.capacity() * sizeof(Vec3f) +
-                       o.mesh.vertexColors.capacity() * sizeof(Color4) +
+    s.geometryBytes += o.mesh.colorCoords.capacity() * sizeof(float) + o.mesh.positions.capacity() * sizeof(Vec3) +
+                       o.mesh.triangles.capacity() * sizeof(glm::uvec3) + o.leafTris.capacity() * sizeof(glm::uvec3) +
+                       o.mesh.normals.capacity() * sizeof(Vec3f) + o.mesh.vertexColors.capacity() * sizeof(Color4) +
                        o.mesh.triangleColors.capacity() * sizeof(Color4) + o.mesh.texcoords.capacity() * sizeof(Vec2f) +
                        o.spheres.centers.capacity() * sizeof(Vec3) + o.capsules.p0.capacity() * 2 * sizeof(Vec3);
   }

@@ -19,13 +19,13 @@ enum class GeometryType : uint8_t { Triangles, Spheres, Capsules };
 
 /// What the committed scene contains; the integrator leaves out every mechanism whose flag is false.
 struct Features {
-  bool reflective = false;     ///< Some visible material has kr > 0.
-  bool transmissive = false;   ///< Some visible material has kt > 0.
-  bool shadowLights = false;   ///< Some light casts shadows.
+  bool reflective = false;    ///< Some visible material has kr > 0.
+  bool transmissive = false;  ///< Some visible material has kt > 0.
+  bool shadowLights = false;  ///< Some light casts shadows.
   bool spheres = false;
   bool capsules = false;
-  bool transforms = false;     ///< Some visible instance has a non-identity transform.
-  bool textures = false;       ///< Some visible material uses a texture with texture coordinates present.
+  bool transforms = false;  ///< Some visible instance has a non-identity transform.
+  bool textures = false;    ///< Some visible material uses a texture with texture coordinates present.
 };
 
 /// A closest hit: ray parameter, instance, original primitive index and surface parameters.
@@ -38,12 +38,12 @@ struct Hit {
 
 /// Everything shading needs at a hit, in world space.
 struct SurfacePoint {
-  Vec3 p;               ///< Hit point.
-  Vec3 pError;          ///< Per-axis bound on the absolute error of p (for robust ray offsets).
-  Vec3 ng;              ///< Unit geometric normal (as the geometry winds, not flipped toward the ray).
-  Vec3 ns;              ///< Unit shading normal, on the same side as ng.
-  Color4 color{1.0f};   ///< Geometry colour (vertex/triangle/sphere), valid when hasColor.
-  Vec2f uv{0.0f};       ///< Texture coordinates, valid when hasUV.
+  Vec3 p;              ///< Hit point.
+  Vec3 pError;         ///< Per-axis bound on the absolute error of p (for robust ray offsets).
+  Vec3 ng;             ///< Unit geometric normal (as the geometry winds, not flipped toward the ray).
+  Vec3 ns;             ///< Unit shading normal, on the same side as ng.
+  Color4 color{1.0f};  ///< Geometry colour (vertex/triangle/sphere), valid when hasColor.
+  Vec2f uv{0.0f};      ///< Texture coordinates, valid when hasUV.
   bool hasColor = false;
   bool hasUV = false;
   uint32_t material = 0;
@@ -51,9 +51,9 @@ struct SurfacePoint {
 
 /// Counts of what commit() did, for statistics and for tests of caching.
 struct CommitStats {
-  int objectsRebuilt = 0;      ///< Per-object BVHs built in this commit.
+  int objectsRebuilt = 0;  ///< Per-object BVHs built in this commit.
   bool topLevelRebuilt = false;
-  double secondsBuild = 0.0;   ///< Wall time of all BVH builds in this commit.
+  double secondsBuild = 0.0;          ///< Wall time of all BVH builds in this commit.
   std::size_t invalidPrimitives = 0;  ///< Primitives skipped (non-finite or degenerate) in rebuilt objects.
   std::size_t invalidMaterials = 0;   ///< Materials with values clamped by sanitizeMaterial.
   std::size_t invalidLights = 0;      ///< Lights with non-finite or negative values (clamped or switched off).
@@ -108,8 +108,8 @@ class Scene {
   std::vector<Light>& lights() { return lights_; }
   const std::vector<Light>& lights() const { return lights_; }
 
-  Color background{0.0f};      ///< Background colour (bottom colour when gradient). Default black.
-  Color background2{0.0f};     ///< Top colour of a vertical gradient background.
+  Color background{0.0f};   ///< Background colour (bottom colour when gradient). Default black.
+  Color background2{0.0f};  ///< Top colour of a vertical gradient background.
   bool gradientBackground = false;
   float backgroundAlpha = 1.0f;  ///< Alpha written for misses (0 for layered or parallel compositing).
   /// Background seen by a ray leaving the scene in direction d (gradient along the camera's up).

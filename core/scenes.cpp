@@ -79,7 +79,8 @@ TriangleMesh makeGrid(const Vec3& origin, const Vec3& u, const Vec3& v, int nu, 
 void buildClassicScene(Scene& scene, CameraSpec& cam, int sphereSubdivisions) {
   // Checkerboard floor (red / yellow as in Whitted 1980) in the plane y = 0, normal +y
   Color4 red(0.85f, 0.1f, 0.1f, 1.0f), yellow(0.95f, 0.85f, 0.1f, 1.0f);
-  TriangleMesh floor = makeGrid(Vec3(-5.0, 0.0, 3.0), Vec3(10.0, 0.0, 0.0), Vec3(0.0, 0.0, -14.0), 10, 14, &red, &yellow);
+  TriangleMesh floor =
+      makeGrid(Vec3(-5.0, 0.0, 3.0), Vec3(10.0, 0.0, 0.0), Vec3(0.0, 0.0, -14.0), 10, 14, &red, &yellow);
   Material floorMat;
   floorMat.ambient = 0.15f;
   floorMat.diffuse = 0.85f;
@@ -137,7 +138,9 @@ void buildClassicScene(Scene& scene, CameraSpec& cam, int sphereSubdivisions) {
   cam.viewAngle = 40.0;
 }
 
-std::vector<std::string> builtinSceneNames() { return {"classic", "classic-mesh"}; }
+std::vector<std::string> builtinSceneNames() {
+  return {"classic", "classic-mesh"};
+}
 
 bool buildBuiltinScene(const std::string& name, Scene& scene, CameraSpec& cam) {
   if (name == "classic") {

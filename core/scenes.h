@@ -12,7 +12,7 @@ namespace whitted {
 /// Camera in VTK terms; near/far are derived from the scene bounds when not positive.
 struct CameraSpec {
   Vec3 eye{0.0, 0.0, 5.0}, focal{0.0}, up{0.0, 1.0, 0.0};
-  double viewAngle = 30.0;   ///< Vertical, degrees (vtkCamera default 30).
+  double viewAngle = 30.0;  ///< Vertical, degrees (vtkCamera default 30).
   double nearDist = 0.0, farDist = 0.0;
   /// Builds the camera for an image of the given aspect; clipping range from bounds like
   /// vtkRenderer::ResetCameraClippingRange when not set.

@@ -155,8 +155,8 @@ std::optional<PrimHit> intersectCapsule(const Ray& ray, const Vec3& pa, const Ve
   Vec3 oPerp = oa - glm::dot(oa, n) * n;
   Vec3 dPerp = ray.dir - glm::dot(ray.dir, n) * n;
   double t0, t1;
-  if (solveQuadraticHalfB(glm::dot(dPerp, dPerp), glm::dot(oPerp, dPerp), glm::dot(oPerp, oPerp) - radius * radius,
-                          t0, t1)) {
+  if (solveQuadraticHalfB(glm::dot(dPerp, dPerp), glm::dot(oPerp, dPerp), glm::dot(oPerp, oPerp) - radius * radius, t0,
+                          t1)) {
     for (double t : {t0, t1}) {
       double y = glm::dot(oa + t * ray.dir, axis) / len2;
       if (y >= 0.0 && y <= 1.0) consider(t, y);

@@ -15,12 +15,12 @@ namespace whitted {
 
 /// Indexed triangle mesh in object space.
 struct TriangleMesh {
-  std::vector<Vec3> positions;            ///< Vertex positions (object space, double).
-  std::vector<glm::uvec3> triangles;      ///< Vertex indices per triangle.
-  std::vector<Vec3f> normals;             ///< Optional per-vertex normals (empty = use facet normals).
-  std::vector<Color4> vertexColors;       ///< Optional per-vertex RGBA in [0,1].
-  std::vector<Color4> triangleColors;     ///< Optional per-triangle RGBA in [0,1] (wins over vertexColors).
-  std::vector<Vec2f> texcoords;           ///< Optional per-vertex texture coordinates.
+  std::vector<Vec3> positions;         ///< Vertex positions (object space, double).
+  std::vector<glm::uvec3> triangles;   ///< Vertex indices per triangle.
+  std::vector<Vec3f> normals;          ///< Optional per-vertex normals (empty = use facet normals).
+  std::vector<Color4> vertexColors;    ///< Optional per-vertex RGBA in [0,1].
+  std::vector<Color4> triangleColors;  ///< Optional per-triangle RGBA in [0,1] (wins over vertexColors).
+  std::vector<Vec2f> texcoords;        ///< Optional per-vertex texture coordinates.
   /// Optional per-vertex colour-map coordinate in [0,1] (VTK's InterpolateScalarsBeforeMapping): interpolated,
   /// then looked up in Scene texture colorMap (nearest, clamped, row 0) as the geometry colour, before lighting.
   std::vector<float> colorCoords;
@@ -30,16 +30,16 @@ struct TriangleMesh {
 /// A set of spheres (VTK's points rendered as spheres).
 struct SphereSet {
   std::vector<Vec3> centers;
-  std::vector<double> radii;              ///< One per sphere, or a single value for all.
-  std::vector<Color4> colors;             ///< Optional per-sphere RGBA.
+  std::vector<double> radii;   ///< One per sphere, or a single value for all.
+  std::vector<Color4> colors;  ///< Optional per-sphere RGBA.
 };
 
 /// A set of capsules: cylinders of radius r between two points, closed by hemispheres (VTK's lines as tubes;
 /// the caps make joints between consecutive segments seamless).
 struct CapsuleSet {
-  std::vector<Vec3> p0, p1;               ///< Segment end points.
-  std::vector<double> radii;              ///< One per capsule, or a single value for all.
-  std::vector<Color4> colors0, colors1;   ///< Optional RGBA at each end (interpolated along the axis).
+  std::vector<Vec3> p0, p1;              ///< Segment end points.
+  std::vector<double> radii;             ///< One per capsule, or a single value for all.
+  std::vector<Color4> colors0, colors1;  ///< Optional RGBA at each end (interpolated along the axis).
 };
 
 /// Result of a primitive test: ray parameter plus two surface parameters.

@@ -1,7 +1,7 @@
 // Intersector tests against analytic answers, edge/vertex hits, far-away origins, watertightness.
+#include "shapes.h"
 #include "scene.h"
 #include "scenes.h"
-#include "shapes.h"
 
 #include <gtest/gtest.h>
 

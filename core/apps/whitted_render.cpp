@@ -28,24 +28,37 @@ int main(int argc, char** argv) {
       }
       return argv[++i];
     };
-    if (a == "--scene") sceneName = next();
+    if (a == "--scene")
+      sceneName = next();
     else if (a == "--size") {
       if (std::sscanf(next(), "%dx%d", &w, &h) != 2 || w <= 0 || h <= 0) {
         std::fprintf(stderr, "--size wants WxH\n");
         return 2;
       }
-    } else if (a == "--spp") rs.samplesPerPixel = std::atoi(next());
-    else if (a == "--adaptive") rs.adaptive = true;
-    else if (a == "--depth") rs.integrator.maxDepth = std::atoi(next());
-    else if (a == "--threshold") rs.integrator.contributionThreshold = float(std::atof(next()));
-    else if (a == "--threads") rs.threads = std::atoi(next());
-    else if (a == "--no-shadows") rs.integrator.shadows = false;
-    else if (a == "--no-reflections") rs.integrator.reflections = false;
-    else if (a == "--no-refractions") rs.integrator.refractions = false;
-    else if (a == "--fresnel") rs.integrator.fresnel = true;
-    else if (a == "--repeat") repeat = std::max(1, std::atoi(next()));
-    else if (a == "--out") out = next();
-    else if (a == "--depth-out") depthOut = next();
+    } else if (a == "--spp")
+      rs.samplesPerPixel = std::atoi(next());
+    else if (a == "--adaptive")
+      rs.adaptive = true;
+    else if (a == "--depth")
+      rs.integrator.maxDepth = std::atoi(next());
+    else if (a == "--threshold")
+      rs.integrator.contributionThreshold = float(std::atof(next()));
+    else if (a == "--threads")
+      rs.threads = std::atoi(next());
+    else if (a == "--no-shadows")
+      rs.integrator.shadows = false;
+    else if (a == "--no-reflections")
+      rs.integrator.reflections = false;
+    else if (a == "--no-refractions")
+      rs.integrator.refractions = false;
+    else if (a == "--fresnel")
+      rs.integrator.fresnel = true;
+    else if (a == "--repeat")
+      repeat = std::max(1, std::atoi(next()));
+    else if (a == "--out")
+      out = next();
+    else if (a == "--depth-out")
+      depthOut = next();
     else {
       std::fprintf(stderr, "unknown option %s\nscenes:", a.c_str());
       for (auto& n : builtinSceneNames()) std::fprintf(stderr, " %s", n.c_str());

@@ -52,10 +52,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       for (int i = 0; i < count + 1; ++i)
         m.triangles.push_back({r.get<uint8_t>() % (nv + 2), r.get<uint8_t>() % (nv + 2), r.get<uint8_t>() % (nv + 2)});
       uint8_t extras = r.get<uint8_t>();
-      if (extras & 1) for (int i = 0; i < nv; ++i) m.normals.push_back(Vec3f(r.col()));
-      if (extras & 2) for (int i = 0; i < nv; ++i) m.vertexColors.push_back(Color4(r.col(), r.f()));
-      if (extras & 4) for (int i = 0; i < count + 1; ++i) m.triangleColors.push_back(Color4(r.col(), r.f()));
-      if (extras & 8) for (int i = 0; i < nv; ++i) m.texcoords.push_back(Vec2f(r.f(), r.f()));
+      if (extras & 1)
+        for (int i = 0; i < nv; ++i) m.normals.push_back(Vec3f(r.col()));
+      if (extras & 2)
+        for (int i = 0; i < nv; ++i) m.vertexColors.push_back(Color4(r.col(), r.f()));
+      if (extras & 4)
+        for (int i = 0; i < count + 1; ++i) m.triangleColors.push_back(Color4(r.col(), r.f()));
+      if (extras & 8)
+        for (int i = 0; i < nv; ++i) m.texcoords.push_back(Vec2f(r.f(), r.f()));
       obj = scene.addMesh(std::move(m));
     } else if (kind == 1) {
       SphereSet s;

@@ -57,10 +57,10 @@ TEST(Large, TenMillionTriangles) {
                          RenderSettings{}, 128, 128, fb);
   double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   double bvhPerTri = double(st.bvhBytes) / st.triangles, geoPerTri = double(st.geometryBytes) / st.triangles;
-  std::printf("[large] %zu triangles: build %.2f s, trace 128x128 %.3f s, total %.2f s; BVH %.1f B/tri, geometry "
-              "%.1f B/tri, total %.1f B/tri; peak RSS %.0f MiB\n",
-              st.triangles, cs.secondsBuild, fs.secondsTrace, total, bvhPerTri, geoPerTri, bvhPerTri + geoPerTri,
-              peakRssMiB());
+  std::printf(
+      "[large] %zu triangles: build %.2f s, trace 128x128 %.3f s, total %.2f s; BVH %.1f B/tri, geometry "
+      "%.1f B/tri, total %.1f B/tri; peak RSS %.0f MiB\n",
+      st.triangles, cs.secondsBuild, fs.secondsTrace, total, bvhPerTri, geoPerTri, bvhPerTri + geoPerTri, peakRssMiB());
   int hits = 0;
   for (float d : fb.depth) hits += d < 1.0f;
   EXPECT_GT(hits, 128 * 128 / 4);

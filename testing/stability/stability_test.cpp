@@ -104,8 +104,8 @@ TEST(Stability, ScaleAndOffsetInvariance) {
 
 // 1e6 rays per scale aimed at vertices and edge points of a closed mesh from outside: none may pass through.
 TEST(Stability, WatertightMillionRaysPerScale) {
-  for (Similarity x : {Similarity{1e-6, Vec3(0.0)}, Similarity{}, Similarity{1e6, Vec3(0.0)},
-                       Similarity{1.0, Vec3(1e7, 1e7, -1e7)}}) {
+  for (Similarity x :
+       {Similarity{1e-6, Vec3(0.0)}, Similarity{}, Similarity{1e6, Vec3(0.0)}, Similarity{1.0, Vec3(1e7, 1e7, -1e7)}}) {
     TriangleMesh m = makeSphereMesh(Vec3(0.0), 1.0, 64, 32);
     for (Vec3& p : m.positions) p = x(p);
     Scene scene;
@@ -270,18 +270,24 @@ TEST(Stability, OpticsAtTheEdge) {
   };
   std::vector<Case> cases = {
       {"ior 10", [&](Scene& s) { sphere(s, Vec3(0), 1, glass(10, 0.9f, 0.1f)); }, Vec3(0, 1, 5)},
-      {"nested glass", [&](Scene& s) {
+      {"nested glass",
+       [&](Scene& s) {
          sphere(s, Vec3(0), 1, glass(1.5f, 0.9f, 0.1f));
          sphere(s, Vec3(0), 0.5, glass(1.33f, 0.9f, 0.1f));
-       }, Vec3(0, 1, 5)},
-      {"touching glass", [&](Scene& s) {
+       },
+       Vec3(0, 1, 5)},
+      {"touching glass",
+       [&](Scene& s) {
          sphere(s, Vec3(-0.5, 0, 0), 0.5, glass(1.5f, 0.9f, 0.1f));
          sphere(s, Vec3(0.5, 0, 0), 0.5, glass(1.5f, 0.9f, 0.1f));
-       }, Vec3(0, 1, 5)},
+       },
+       Vec3(0, 1, 5)},
       {"camera inside glass", [&](Scene& s) { sphere(s, Vec3(0, 0, 3), 3, glass(1.5f, 0.9f, 0.1f)); }, Vec3(0, 0.5, 3)},
-      {"light inside closed mesh", [&](Scene& s) {
+      {"light inside closed mesh",
+       [&](Scene& s) {
          s.addInstance(s.addMesh(makeSphereMesh(Vec3(2, 5, 3), 0.5, 16, 8)), Mat4(1.0), s.addMaterial(Material{}));
-       }, Vec3(0, 1, 5)},
+       },
+       Vec3(0, 1, 5)},
       {"kr + kt > 1", [&](Scene& s) { sphere(s, Vec3(0), 1, glass(1.5f, 1.0f, 1.0f)); }, Vec3(0, 1, 5)},
   };
   for (const Case& c : cases) {
@@ -362,8 +368,8 @@ TEST(Stability, BadInputIsSkippedAndTheRestRenders) {
     if (!withBad) return;
     const double nan = std::nan(""), inf = std::numeric_limits<double>::infinity();
     TriangleMesh bad;
-    bad.positions = {Vec3(nan, 0, 0), Vec3(1, inf, 0), Vec3(0, 1, 0), Vec3(2, 2, 2), Vec3(2, 2, 2), Vec3(3, 3, 3),
-                     Vec3(5, 5, 5), Vec3(6, 5, 5), Vec3(5, 6, 5)};
+    bad.positions = {Vec3(nan, 0, 0), Vec3(1, inf, 0), Vec3(0, 1, 0), Vec3(2, 2, 2), Vec3(2, 2, 2),
+                     Vec3(3, 3, 3),   Vec3(5, 5, 5),   Vec3(6, 5, 5), Vec3(5, 6, 5)};
     bad.triangles = {{0, 1, 2}, {3, 4, 5}, {6, 7, 99}, {3, 3, 3}};
     bad.normals = std::vector<Vec3f>(bad.positions.size(), Vec3f(std::nanf(""), 0, 0));
     bad.vertexColors = std::vector<Color4>(bad.positions.size(), Color4(std::nanf(""), 1, 1, 1));
