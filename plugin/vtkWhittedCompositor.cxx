@@ -45,8 +45,8 @@ void vtkWhittedCompositor::Premultiply(
 }
 
 //------------------------------------------------------------------------------
-bool vtkWhittedCompositor::Draw(
-  vtkOpenGLRenderWindow* win, const whitted::FrameBuffer& fb, int x, int y)
+bool vtkWhittedCompositor::Draw(vtkOpenGLRenderWindow* win, const whitted::FrameBuffer& fb, int x,
+  int y, int width, int height)
 {
   if (fb.width <= 0 || fb.height <= 0)
   {
@@ -107,8 +107,8 @@ bool vtkWhittedCompositor::Draw(
   vtkOpenGLState::ScopedglBlendFuncSeparate bfsaver(state);
   vtkOpenGLState::ScopedglColorMask cmsaver(state);
 
-  state->vtkglViewport(x, y, fb.width, fb.height);
-  state->vtkglScissor(x, y, fb.width, fb.height);
+  state->vtkglViewport(x, y, width, height);
+  state->vtkglScissor(x, y, width, height);
   state->vtkglColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   state->vtkglEnable(GL_DEPTH_TEST);
   state->vtkglDepthFunc(GL_LEQUAL);

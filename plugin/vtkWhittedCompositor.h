@@ -43,10 +43,11 @@ public:
     whitted::FrameBuffer& fb, const double bottom[3], const double top[3], bool gradient);
 
   /**
-   * Draws fb (premultiplied) into the viewport (x, y, fb.width, fb.height) of the current
-   * framebuffer. Returns false if the shader could not be built.
+   * Draws fb (premultiplied) into the viewport (x, y, width, height) of the current framebuffer,
+   * stretched (nearest neighbour) if fb is smaller. Returns false if the shader could not be built.
    */
-  bool Draw(vtkOpenGLRenderWindow* win, const whitted::FrameBuffer& fb, int x, int y);
+  bool Draw(vtkOpenGLRenderWindow* win, const whitted::FrameBuffer& fb, int x, int y, int width,
+    int height);
 
   void ReleaseGraphicsResources(vtkWindow* w);
 

@@ -6,6 +6,7 @@
 #include "vtkCamera.h"
 #include "vtkCameraPass.h"
 #include "vtkCommand.h"
+#include "vtkFloatArray.h"
 #include "vtkFrameBufferObjectBase.h"
 #include "vtkHardwareSelector.h"
 #include "vtkInformationDoubleKey.h"
@@ -31,6 +32,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <exception>
 #include <map>
 #include <memory>
 
@@ -153,7 +155,22 @@ void vtkWhittedPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ContributionThreshold: " << this->ContributionThreshold << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "Fresnel: " << this->Fresnel << "\n";
+  os << indent << "ImageSplit: " << this->ImageSplit[0] << " " << this->ImageSplit[1] << "\n";
+  os << indent << "ImageReductionFactor: " << this->ImageReductionFactor << "\n";
   os << indent << "LastFrameReport:\n" << this->LastFrameReport;
+}
+
+//------------------------------------------------------------------------------
+void vtkWhittedPass::SetImageSplit(int stride, int offset)
+{
+  stride = stride < 1 ? 1 : stride;
+  offset = offset < 0 ? 0 : (offset >= stride ? stride - 1 : offset);
+  if (this->ImageSplit[0] != stride || this->ImageSplit[1] != offset)
+  {
+    this->ImageSplit[0] = stride;
+    this->ImageSplit[1] = offset;
+    this->Modified();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -202,49 +219,103 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
   {
     ren->GetTiledSizeAndOrigin(&width, &height, &x, &y);
   }
+  // Reduced resolution (interactive frames): the same camera, fewer pixels, stretched when drawn
+  const int traceWidth = (width + this->ImageReductionFactor - 1) / this->ImageReductionFactor;
+  const int traceHeight = (height + this->ImageReductionFactor - 1) / this->ImageReductionFactor;
 
-  // Scene conversion (cached) and BVH builds of what changed
+  // Conversion, BVH builds and tracing may throw (std::bad_alloc for a scene too large for memory,
+  // or an exception from an observer of the abort check / progress): the frame then fails cleanly
   vtkWhittedSceneConverter::Result conv;
-  vtkWhittedSceneConverter& converter = in->ConverterFor(ren);
-  converter.Update(ren, s->GetPropArray(), s->GetPropArrayCount(), this, conv);
-  whitted::Scene& scene = converter.GetScene();
-  this->LastConversionTime = SecondsSince(start);
-  const whitted::CommitStats commit = scene.commit();
-
-  // Camera: rays from the inverse of VTK's composite projection (tiles, IceT viewports)
-  vtkCamera* cam = ren->GetActiveCamera();
-  vtkMatrix4x4* m = cam->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1);
-  whitted::Mat4 worldToClip(1.0);
-  for (int r = 0; r < 4; ++r)
+  vtkWhittedSceneConverter* converter = nullptr;
+  whitted::Scene* scenePtr = nullptr;
+  whitted::CommitStats commit;
+  whitted::FrameStats frame;
+  try
   {
-    for (int c = 0; c < 4; ++c)
+    // Scene conversion (cached) and BVH builds of what changed
+    converter = &in->ConverterFor(ren);
+    converter->Update(ren, s->GetPropArray(), s->GetPropArrayCount(), this, conv);
+    scenePtr = &converter->GetScene();
+    this->LastConversionTime = SecondsSince(start);
+    commit = scenePtr->commit();
+
+    // Camera: rays from the inverse of VTK's composite projection (tiles, IceT viewports)
+    vtkCamera* cam = ren->GetActiveCamera();
+    vtkMatrix4x4* m = cam->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1);
+    whitted::Mat4 worldToClip(1.0);
+    for (int r = 0; r < 4; ++r)
     {
-      worldToClip[c][r] = m->GetElement(r, c);
+      for (int c = 0; c < 4; ++c)
+      {
+        worldToClip[c][r] = m->GetElement(r, c);
+      }
+    }
+    const whitted::Camera camera = whitted::Camera::fromViewProjection(worldToClip);
+
+    // Trace. The callbacks run on this thread between tiles while worker threads trace: an
+    // exception must not unwind through the tracer, so it aborts the frame and is rethrown after.
+    whitted::RenderSettings rs;
+    rs.integrator.maxDepth = this->MaxDepth;
+    rs.integrator.shadows = this->Shadows;
+    rs.integrator.reflections = this->Reflections;
+    rs.integrator.refractions = this->Refractions;
+    rs.integrator.contributionThreshold = static_cast<float>(this->ContributionThreshold);
+    rs.integrator.fresnel = this->Fresnel;
+    rs.integrator.headlightShading = conv.HeadlightShading;
+    // VTK's specular view vector comes from the camera position, also for parallel projection
+    rs.integrator.viewFromEye = cam->GetParallelProjection() != 0;
+    double eye[3];
+    cam->GetPosition(eye);
+    rs.integrator.eye = whitted::Vec3(eye[0], eye[1], eye[2]);
+    rs.samplesPerPixel = this->SamplesPerPixel;
+    rs.adaptive = this->AdaptiveSampling;
+    rs.threads = this->NumberOfThreads;
+    rs.tileStride = this->ImageSplit[0];
+    rs.tileOffset = this->ImageSplit[1];
+    std::exception_ptr callbackError;
+    rs.abortCheck = [win, &callbackError]()
+    {
+      try
+      {
+        return callbackError || win->CheckAbortStatus() != 0;
+      }
+      catch (...)
+      {
+        callbackError = std::current_exception();
+        return true;
+      }
+    };
+    rs.progress = [this, &callbackError](double fraction)
+    {
+      try
+      {
+        if (!callbackError)
+        {
+          this->InvokeEvent(vtkCommand::ProgressEvent, &fraction);
+        }
+      }
+      catch (...)
+      {
+        callbackError = std::current_exception();
+      }
+    };
+    frame = whitted::render(*scenePtr, camera, rs, traceWidth, traceHeight, in->Frame);
+    if (callbackError)
+    {
+      std::rethrow_exception(callbackError);
     }
   }
-  const whitted::Camera camera = whitted::Camera::fromViewProjection(worldToClip);
-
-  // Trace
-  whitted::RenderSettings rs;
-  rs.integrator.maxDepth = this->MaxDepth;
-  rs.integrator.shadows = this->Shadows;
-  rs.integrator.reflections = this->Reflections;
-  rs.integrator.refractions = this->Refractions;
-  rs.integrator.contributionThreshold = static_cast<float>(this->ContributionThreshold);
-  rs.integrator.fresnel = this->Fresnel;
-  rs.integrator.headlightShading = conv.HeadlightShading;
-  // VTK's specular view vector comes from the camera position, also for parallel projection
-  rs.integrator.viewFromEye = cam->GetParallelProjection() != 0;
-  double eye[3];
-  cam->GetPosition(eye);
-  rs.integrator.eye = whitted::Vec3(eye[0], eye[1], eye[2]);
-  rs.samplesPerPixel = this->SamplesPerPixel;
-  rs.adaptive = this->AdaptiveSampling;
-  rs.threads = this->NumberOfThreads;
-  rs.abortCheck = [win]() { return win->CheckAbortStatus() != 0; };
-  rs.progress = [this](double fraction)
-  { this->InvokeEvent(vtkCommand::ProgressEvent, &fraction); };
-  const whitted::FrameStats frame = whitted::render(scene, camera, rs, width, height, in->Frame);
+  catch (const std::exception& e)
+  {
+    this->FailFrame(converter, e.what());
+    return;
+  }
+  catch (...)
+  {
+    this->FailFrame(converter, "unknown exception");
+    return;
+  }
+  whitted::Scene& scene = *scenePtr;
 
   // Composite colour + depth, then VTK's OpenGL stages for the props left to it
   const auto compositeStart = std::chrono::steady_clock::now();
@@ -255,7 +326,7 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
   {
     vtkWhittedCompositor::Premultiply(in->Frame, bottom, top, ren->GetGradientBackground());
   }
-  if (!in->Compositor.Draw(win, in->Frame, x, y))
+  if (!in->Compositor.Draw(win, in->Frame, x, y, width, height))
   {
     vtkErrorMacro("Could not build the compositing shader.");
   }
@@ -290,17 +361,18 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
   this->LastNumberOfSpheres = sstats.spheres;
   this->LastNumberOfTubes = sstats.capsules;
   this->LastBVHBytes = sstats.bvhBytes;
-  this->LastSize[0] = width;
-  this->LastSize[1] = height;
+  this->LastSize[0] = traceWidth;
+  this->LastSize[1] = traceHeight;
   this->LastNumberOfGeometriesConverted = conv.GeometriesConverted;
   this->LastNumberOfObjectsRebuilt = commit.objectsRebuilt;
   this->LastTopLevelRebuilt = commit.topLevelRebuilt;
   this->LastNumberOfTracedActors = conv.TracedActors;
   this->LastNumberOfOpenGLProps = static_cast<int>(conv.OpenGLProps.size());
   this->LastFrameAborted = frame.aborted;
+  this->LastFrameFailed = false;
 
   this->LastFrameReport = whitted::frameReport(
-    frame, sstats, commit, width, height, this->LastConversionTime, "conversion");
+    frame, sstats, commit, traceWidth, traceHeight, this->LastConversionTime, "conversion");
   char line[256];
   std::snprintf(line, sizeof line,
     "  vtk              composite %.2f ms, total %.2f ms; %d actors traced (%d geometries "
@@ -310,4 +382,63 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
   this->LastFrameReport += line;
 
   this->InvokeEvent(vtkCommand::EndEvent);
+}
+
+//------------------------------------------------------------------------------
+void vtkWhittedPass::FailFrame(vtkWhittedSceneConverter* converter, const char* what)
+{
+  vtkWhittedPassInternals* in = this->Internals;
+  vtkErrorMacro(<< "Ray tracing failed (" << what
+                << "): this frame shows only the background; the scene will be converted again "
+                   "from scratch at the next render.");
+  // A conversion or BVH build interrupted half-way leaves the caches in an unknown state: drop
+  // them (and the memory they hold)
+  if (converter)
+  {
+    converter->Reset();
+  }
+  in->Frame = whitted::FrameBuffer();
+  in->Rendered = 0;
+  this->LastFrameFailed = true;
+  this->LastFrameAborted = false;
+  this->LastBuildTime = this->LastTraceTime = this->LastCompositeTime = 0.0;
+  this->LastPrimaryRays = this->LastShadowRays = this->LastReflectionRays = 0;
+  this->LastRefractionRays = this->LastRaysSavedByThreshold = this->LastRaysSavedByDepth = 0;
+  this->LastNumberOfTriangles = this->LastNumberOfSpheres = this->LastNumberOfTubes = 0;
+  this->LastBVHBytes = 0;
+  this->LastSize[0] = this->LastSize[1] = 0;
+  this->LastNumberOfGeometriesConverted = this->LastNumberOfObjectsRebuilt = 0;
+  this->LastTopLevelRebuilt = false;
+  this->LastNumberOfTracedActors = this->LastNumberOfOpenGLProps = 0;
+  this->LastFrameReport = std::string("frame failed: ") + what + "\n";
+  this->InvokeEvent(vtkCommand::EndEvent);
+}
+
+//------------------------------------------------------------------------------
+void vtkWhittedPass::GetLastFrame(vtkFloatArray* rgba, vtkFloatArray* depth)
+{
+  const whitted::FrameBuffer& fb = this->Internals->Frame;
+  const vtkIdType n = static_cast<vtkIdType>(fb.width) * fb.height;
+  const bool valid =
+    n > 0 && fb.color.size() == static_cast<size_t>(n) && fb.depth.size() == static_cast<size_t>(n);
+  if (rgba)
+  {
+    rgba->SetNumberOfComponents(4);
+    rgba->SetNumberOfTuples(valid ? n : 0);
+    for (vtkIdType i = 0; valid && i < n; ++i)
+    {
+      const whitted::Color4& c = fb.color[i];
+      const float v[4] = { c.r, c.g, c.b, c.a };
+      rgba->SetTypedTuple(i, v);
+    }
+  }
+  if (depth)
+  {
+    depth->SetNumberOfComponents(1);
+    depth->SetNumberOfTuples(valid ? n : 0);
+    for (vtkIdType i = 0; valid && i < n; ++i)
+    {
+      depth->SetValue(i, fb.depth[i]);
+    }
+  }
 }

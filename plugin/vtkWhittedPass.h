@@ -38,9 +38,11 @@
 
 #include <string> // for std::string
 
+class vtkFloatArray;
 class vtkInformationDoubleKey;
 class vtkInformationDoubleVectorKey;
 class vtkWhittedPassInternals;
+class vtkWhittedSceneConverter;
 
 class VTKWHITTED_EXPORT vtkWhittedPass : public vtkRenderPass
 {
@@ -147,6 +149,27 @@ public:
 
   ///@{
   /**
+   * Image split between processes for sort-last compositing (ParaView/IceT with the scene
+   * replicated on every process): trace only the 16x16 tiles whose index modulo stride equals
+   * offset and leave every other pixel as cleared (depth 1, alpha 0), so that the depth or
+   * ordered-blend composite of `stride` processes with offsets 0..stride-1 is the whole image.
+   * Default 1, 0 (trace everything).
+   */
+  void SetImageSplit(int stride, int offset);
+  vtkGetVector2Macro(ImageSplit, int);
+  ///@}
+
+  ///@{
+  /**
+   * Trace at 1/factor of the viewport's width and height and stretch the result over the viewport
+   * (nearest neighbour, colour and depth). For interactive frames. Default is 1 (full resolution).
+   */
+  vtkSetClampMacro(ImageReductionFactor, int, 1, 16);
+  vtkGetMacro(ImageReductionFactor, int);
+  ///@}
+
+  ///@{
+  /**
    * Whitted material keys, set on an actor's vtkProperty information.
    * REFLECTANCE: weight of the mirror-reflected ray, 1 value (grey) or 3 (RGB) in [0,1]. Default 0.
    * TRANSMITTANCE: weight of the transmitted (refracted) ray and the filter applied to shadow rays
@@ -211,6 +234,22 @@ public:
   ///@}
 
   /**
+   * True when the last frame failed: an exception (e.g. std::bad_alloc from the scene
+   * conversion, the BVH build or the tracer) was reported with vtkErrorMacro, the frame shows only
+   * what vtkCameraPass cleared (the background), and the scene is converted again from scratch at
+   * the next render.
+   */
+  vtkGetMacro(LastFrameFailed, bool);
+
+  /**
+   * Copies the tracer's image of the last frame (before compositing): colour as 4-component linear
+   * RGBA floats as the tracer wrote them, and OpenGL window depth (1 component, 1 where nothing
+   * was hit), rows bottom to top, GetLastSize() pixels. Either array may be null. Empty after a
+   * failed frame. For tests and diagnostics (e.g. checking that no pixel is NaN or infinite).
+   */
+  void GetLastFrame(vtkFloatArray* rgba, vtkFloatArray* depth);
+
+  /**
    * The last frame's statistics as a human-readable report (the same text as the core's
    * command-line renderer, plus the VTK phases). Empty before the first frame.
    */
@@ -234,6 +273,8 @@ protected:
   double ContributionThreshold = 1.0 / 255.0;
   int NumberOfThreads = 0;
   bool Fresnel = false;
+  int ImageSplit[2] = { 1, 0 };
+  int ImageReductionFactor = 1;
 
   double LastConversionTime = 0.0;
   double LastBuildTime = 0.0;
@@ -257,11 +298,16 @@ protected:
   int LastNumberOfTracedActors = 0;
   int LastNumberOfOpenGLProps = 0;
   bool LastFrameAborted = false;
+  bool LastFrameFailed = false;
   std::string LastFrameReport;
 
   vtkWhittedPassInternals* Internals;
 
 private:
+  // Reports a failed frame (exception from conversion, BVH build or tracing): error, caches
+  // dropped, statistics cleared, EndEvent.
+  void FailFrame(vtkWhittedSceneConverter* converter, const char* what);
+
   vtkWhittedPass(const vtkWhittedPass&) = delete;
   void operator=(const vtkWhittedPass&) = delete;
 };

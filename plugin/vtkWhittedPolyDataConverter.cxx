@@ -3,6 +3,7 @@
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
+#include "vtkCharArray.h"
 #include "vtkFloatArray.h"
 #include "vtkIdList.h"
 #include "vtkImageData.h"
@@ -76,28 +77,84 @@ bool IsConvexPolygon(vtkPoints* points, vtkIdType n, const vtkIdType* ids)
 }
 
 //------------------------------------------------------------------------------
+// Whether every id of a cell names an existing point.
+bool ValidCell(vtkIdType n, const vtkIdType* ids, vtkIdType np)
+{
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    if (ids[i] < 0 || ids[i] >= np)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+// The four cell arrays of a polydata, malformed ones (offsets not matching the connectivity)
+// replaced by an empty array, and the id of the first cell of each (VTK's order: verts, lines,
+// polys, strips).
+struct CellArrays
+{
+  vtkNew<vtkCellArray> Empty;
+  vtkCellArray* Arrays[4];
+  vtkIdType FirstId[4];
+  vtkCellArray* Verts() const { return this->Arrays[0]; }
+  vtkCellArray* Lines() const { return this->Arrays[1]; }
+  vtkCellArray* Polys() const { return this->Arrays[2]; }
+  vtkCellArray* Strips() const { return this->Arrays[3]; }
+  vtkIdType Total = 0;
+
+  CellArrays(vtkPolyData* poly, int& malformed)
+  {
+    vtkCellArray* arrays[4] = { poly->GetVerts(), poly->GetLines(), poly->GetPolys(),
+      poly->GetStrips() };
+    for (int k = 0; k < 4; ++k)
+    {
+      this->FirstId[k] = this->Total;
+      vtkCellArray* ca = arrays[k];
+      if (ca)
+      {
+        this->Total += std::max<vtkIdType>(0, ca->GetNumberOfCells());
+      }
+      if (ca && !ca->IsValid())
+      {
+        ++malformed;
+        ca = nullptr;
+      }
+      this->Arrays[k] = ca ? ca : this->Empty.Get();
+    }
+  }
+};
+
+//------------------------------------------------------------------------------
 // Triangles of polygons and strips, with the id of the cell each comes from. Convex polygons
 // are split as a fan from their first point (as VTK's OpenGL mapper does, so interpolation
 // matches); concave ones by ear cutting (VTK's OpenGL mapper draws those wrongly as fans).
+// Cells using ids that name no point are skipped and counted.
 struct TriangleList
 {
   std::vector<glm::uvec3> Tris;
   std::vector<vtkIdType> Cells;
 };
 
-void Triangulate(vtkPolyData* poly, TriangleList& out)
+void Triangulate(vtkPoints* points, const CellArrays& cells, TriangleList& out, vtkIdType& invalid)
 {
-  vtkPoints* points = poly->GetPoints();
-  vtkIdType cellId = poly->GetVerts()->GetNumberOfCells() + poly->GetLines()->GetNumberOfCells();
+  const vtkIdType np = points->GetNumberOfPoints();
+  vtkIdType cellId = cells.FirstId[2];
   vtkNew<vtkPolygon> polygon;
   vtkNew<vtkIdList> tris;
 
-  auto polys = vtk::TakeSmartPointer(poly->GetPolys()->NewIterator());
+  auto polys = vtk::TakeSmartPointer(cells.Polys()->NewIterator());
   for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell(), ++cellId)
   {
     vtkIdType n;
     const vtkIdType* ids;
     polys->GetCurrentCell(n, ids);
+    if (!ValidCell(n, ids, np))
+    {
+      ++invalid;
+      continue;
+    }
     if (n < 3)
     {
       continue;
@@ -123,18 +180,28 @@ void Triangulate(vtkPolyData* poly, TriangleList& out)
     polygon->Triangulate(tris);
     for (vtkIdType i = 0; i + 2 < tris->GetNumberOfIds(); i += 3)
     {
-      out.Tris.emplace_back(ids[tris->GetId(i)], ids[tris->GetId(i + 1)], ids[tris->GetId(i + 2)]);
-      out.Cells.push_back(cellId);
+      const vtkIdType a = tris->GetId(i), b = tris->GetId(i + 1), c = tris->GetId(i + 2);
+      if (a >= 0 && a < n && b >= 0 && b < n && c >= 0 && c < n)
+      {
+        out.Tris.emplace_back(ids[a], ids[b], ids[c]);
+        out.Cells.push_back(cellId);
+      }
     }
   }
 
   // Strips: alternate winding as OpenGL does
-  auto strips = vtk::TakeSmartPointer(poly->GetStrips()->NewIterator());
+  cellId = cells.FirstId[3];
+  auto strips = vtk::TakeSmartPointer(cells.Strips()->NewIterator());
   for (strips->GoToFirstCell(); !strips->IsDoneWithTraversal(); strips->GoToNextCell(), ++cellId)
   {
     vtkIdType n;
     const vtkIdType* ids;
     strips->GetCurrentCell(n, ids);
+    if (!ValidCell(n, ids, np))
+    {
+      ++invalid;
+      continue;
+    }
     for (vtkIdType j = 0; j + 2 < n; ++j)
     {
       out.Tris.emplace_back(ids[j], ids[j + 1 + j % 2], ids[j + 1 + (j + 1) % 2]);
@@ -174,8 +241,31 @@ struct ColorSource
   }
 };
 
-void MapColors(vtkPolyData* poly, vtkMapper* mapper, bool actorTexture, ColorSource& out)
+void MapColors(vtkPolyData* poly, vtkIdType numCells, vtkMapper* mapper, bool actorTexture,
+  ColorSource& out, bool& shortArray, bool& unusable)
 {
+  // Scalars used directly as colours need 1 to 4 components and must not be a char array: VTK
+  // 9.1's vtkMapper::MapScalars dereferences the null its lookup table returns for anything else
+  // (VTK's own OpenGL mapper crashes on such input)
+  if (mapper->GetScalarVisibility())
+  {
+    int flag = 0;
+    vtkDataArray* scalars = vtkArrayDownCast<vtkDataArray>(
+      vtkAbstractMapper::GetAbstractScalars(poly, mapper->GetScalarMode(),
+        mapper->GetArrayAccessMode(), mapper->GetArrayId(), mapper->GetArrayName(), flag));
+    const int mode = mapper->GetColorMode();
+    const bool direct = scalars &&
+      ((mode == VTK_COLOR_MODE_DEFAULT && vtkArrayDownCast<vtkUnsignedCharArray>(scalars)) ||
+        mode == VTK_COLOR_MODE_DIRECT_SCALARS);
+    if (direct &&
+      (vtkArrayDownCast<vtkCharArray>(scalars) || scalars->GetNumberOfComponents() < 1 ||
+        scalars->GetNumberOfComponents() > 4))
+    {
+      unusable = true;
+      return;
+    }
+  }
+
   // The mapper caches colours by MTime; a composite mapper maps several blocks in turn
   mapper->ClearColorArrays();
   int cellFlag = 0;
@@ -219,13 +309,60 @@ void MapColors(vtkPolyData* poly, vtkMapper* mapper, bool actorTexture, ColorSou
   {
     out.FixedTuple = mapper->GetFieldDataTupleId();
   }
-  if (!out.Cell && out.Colors->GetNumberOfTuples() < poly->GetNumberOfPoints())
+  // An array shorter than the points (cells) it colours: draw with the property colours
+  const vtkIdType needed =
+    out.Cell ? (out.FixedTuple >= 0 ? out.FixedTuple + 1 : numCells) : poly->GetNumberOfPoints();
+  if (out.Colors->GetNumberOfTuples() < needed)
   {
-    out.Colors = nullptr; // inconsistent array: draw with the property colours
+    out.Colors = nullptr;
+    shortArray = true;
   }
 }
 
 } // namespace
+
+//------------------------------------------------------------------------------
+void vtkWhittedPolyDataConverter::Recentre(Primitives& out)
+{
+  // Bounds of the finite points
+  whitted::Bounds3 b;
+  auto add = [&b](const std::vector<Vec3>& ps)
+  {
+    for (const Vec3& p : ps)
+    {
+      if (whitted::isFinite(p))
+      {
+        b.extend(p);
+      }
+    }
+  };
+  add(out.Mesh.positions);
+  add(out.Spheres.centers);
+  add(out.Capsules.p0);
+  add(out.Capsules.p1);
+  const double diagonal = b.diagonal();
+  const double farthest = b.maxAbs();
+  // Single-precision bounds near the data are spaced farthest * 2^-23 apart: keep that below
+  // diagonal * 2^-17 (a BVH of 1 e7-offset data would otherwise test nearly every primitive)
+  if (!b.valid() || !std::isfinite(diagonal) || !std::isfinite(farthest) ||
+    farthest <= 64.0 * diagonal)
+  {
+    return;
+  }
+  const Vec3 origin = b.center();
+  auto shift = [&origin](std::vector<Vec3>& ps)
+  {
+    for (Vec3& p : ps)
+    {
+      p -= origin;
+    }
+  };
+  shift(out.Mesh.positions);
+  shift(out.Spheres.centers);
+  shift(out.Capsules.p0);
+  shift(out.Capsules.p1);
+  out.Origin = origin;
+}
 
 //------------------------------------------------------------------------------
 whitted::Texture vtkWhittedPolyDataConverter::ConvertImage(
@@ -280,15 +417,39 @@ whitted::Texture vtkWhittedPolyDataConverter::ConvertImage(
 void vtkWhittedPolyDataConverter::Convert(
   vtkPolyData* poly, vtkMapper* mapper, const Options& o, double radiusScale, Primitives& out)
 {
+  ConvertPrimitives(poly, mapper, o, radiusScale, out);
+  Recentre(out);
+}
+
+//------------------------------------------------------------------------------
+void vtkWhittedPolyDataConverter::ConvertPrimitives(
+  vtkPolyData* poly, vtkMapper* mapper, const Options& o, double radiusScale, Primitives& out)
+{
   vtkPoints* points = poly->GetPoints();
   const vtkIdType np = points ? points->GetNumberOfPoints() : 0;
   if (np == 0)
   {
     return;
   }
+  Problems& issues = out.Issues;
+  issues.NumberOfPoints = np;
+  const CellArrays cells(poly, issues.MalformedCellArrays);
+
+  // Non-finite points are left in (the core skips every primitive using one) but counted
+  vtkDataArray* coords = points->GetData();
+  for (vtkIdType i = 0; i < np; ++i)
+  {
+    double x[3];
+    coords->GetTuple(i, x);
+    if (!(std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2])))
+    {
+      ++issues.NonFinitePoints;
+    }
+  }
 
   ColorSource colors;
-  MapColors(poly, mapper, o.TCoords, colors);
+  MapColors(
+    poly, cells.Total, mapper, o.TCoords, colors, issues.ShortScalars, issues.UnusableColors);
   out.ScalarColors = colors.Colors != nullptr;
   if (colors.TextureMap)
   {
@@ -305,13 +466,14 @@ void vtkWhittedPolyDataConverter::Convert(
     points->GetPoint(i, x);
     return Vec3(x[0], x[1], x[2]);
   };
-  const double sphereRadius = std::max(1e-30, o.PointSize * radiusScale);
-  const double tubeRadius = std::max(1e-30, o.LineWidth * radiusScale);
+  // Spheres and tubes need a positive finite radius (PointSize / LineWidth 0 or NaN give none)
+  const double sphereRadius = o.PointSize * radiusScale;
+  const double tubeRadius = o.LineWidth * radiusScale;
+  const bool sphereRadiusOk = sphereRadius > 0.0 && std::isfinite(sphereRadius);
+  const bool tubeRadiusOk = tubeRadius > 0.0 && std::isfinite(tubeRadius);
 
-  vtkCellArray* verts = poly->GetVerts();
-  vtkCellArray* lines = poly->GetLines();
-  const vtkIdType nVerts = verts->GetNumberOfCells();
-  const vtkIdType nLines = lines->GetNumberOfCells();
+  vtkCellArray* verts = cells.Verts();
+  vtkCellArray* lines = cells.Lines();
 
   // Points as spheres: every vertex of a vertex cell, or in points representation every point any
   // cell uses (once)
@@ -346,18 +508,23 @@ void vtkWhittedPolyDataConverter::Convert(
   if (o.Representation == VTK_POINTS)
   {
     std::vector<bool> seen(static_cast<size_t>(np), false);
-    vtkIdType cellId = 0;
-    for (vtkCellArray* ca : { verts, lines, poly->GetPolys(), poly->GetStrips() })
+    for (int k = 0; k < 4; ++k)
     {
-      auto it = vtk::TakeSmartPointer(ca->NewIterator());
+      vtkIdType cellId = cells.FirstId[k];
+      auto it = vtk::TakeSmartPointer(cells.Arrays[k]->NewIterator());
       for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
       {
         vtkIdType n;
         const vtkIdType* ids;
         it->GetCurrentCell(n, ids);
+        if (!ValidCell(n, ids, np))
+        {
+          ++issues.InvalidCells;
+          continue;
+        }
         for (vtkIdType i = 0; i < n; ++i)
         {
-          if (ids[i] >= 0 && ids[i] < np && !seen[ids[i]])
+          if (!seen[ids[i]])
           {
             seen[ids[i]] = true;
             addSphere(ids[i], cellId);
@@ -368,13 +535,18 @@ void vtkWhittedPolyDataConverter::Convert(
   }
   else
   {
-    vtkIdType cellId = 0;
+    vtkIdType cellId = cells.FirstId[0];
     auto it = vtk::TakeSmartPointer(verts->NewIterator());
     for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
     {
       vtkIdType n;
       const vtkIdType* ids;
       it->GetCurrentCell(n, ids);
+      if (!ValidCell(n, ids, np))
+      {
+        ++issues.InvalidCells;
+        continue;
+      }
       for (vtkIdType i = 0; i < n; ++i)
       {
         addSphere(ids[i], cellId);
@@ -383,19 +555,32 @@ void vtkWhittedPolyDataConverter::Convert(
   }
   if (!out.Spheres.centers.empty())
   {
-    out.Spheres.radii.assign(1, sphereRadius);
+    if (sphereRadiusOk)
+    {
+      out.Spheres.radii.assign(1, sphereRadius);
+    }
+    else
+    {
+      out.Spheres = whitted::SphereSet();
+      issues.NoSphereRadius = true;
+    }
   }
 
   // Lines as tubes (capsules, so consecutive segments join seamlessly)
   if (o.Representation != VTK_POINTS)
   {
-    vtkIdType cellId = nVerts;
+    vtkIdType cellId = cells.FirstId[1];
     auto it = vtk::TakeSmartPointer(lines->NewIterator());
     for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
     {
       vtkIdType n;
       const vtkIdType* ids;
       it->GetCurrentCell(n, ids);
+      if (!ValidCell(n, ids, np))
+      {
+        ++issues.InvalidCells;
+        continue;
+      }
       for (vtkIdType i = 0; i + 1 < n; ++i)
       {
         addCapsule(ids[i], ids[i + 1], cellId);
@@ -415,24 +600,35 @@ void vtkWhittedPolyDataConverter::Convert(
         addCapsule(a, b, cell);
       }
     };
-    vtkIdType cellId = nVerts + nLines;
-    auto polys = vtk::TakeSmartPointer(poly->GetPolys()->NewIterator());
+    vtkIdType cellId = cells.FirstId[2];
+    auto polys = vtk::TakeSmartPointer(cells.Polys()->NewIterator());
     for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell(), ++cellId)
     {
       vtkIdType n;
       const vtkIdType* ids;
       polys->GetCurrentCell(n, ids);
+      if (!ValidCell(n, ids, np))
+      {
+        ++issues.InvalidCells;
+        continue;
+      }
       for (vtkIdType i = 0; i < n; ++i)
       {
         addEdge(ids[i], ids[(i + 1) % n], cellId);
       }
     }
-    auto strips = vtk::TakeSmartPointer(poly->GetStrips()->NewIterator());
+    cellId = cells.FirstId[3];
+    auto strips = vtk::TakeSmartPointer(cells.Strips()->NewIterator());
     for (strips->GoToFirstCell(); !strips->IsDoneWithTraversal(); strips->GoToNextCell(), ++cellId)
     {
       vtkIdType n;
       const vtkIdType* ids;
       strips->GetCurrentCell(n, ids);
+      if (!ValidCell(n, ids, np))
+      {
+        ++issues.InvalidCells;
+        continue;
+      }
       if (n >= 2)
       {
         addEdge(ids[0], ids[1], cellId);
@@ -446,7 +642,15 @@ void vtkWhittedPolyDataConverter::Convert(
   }
   if (!out.Capsules.p0.empty())
   {
-    out.Capsules.radii.assign(1, tubeRadius);
+    if (tubeRadiusOk)
+    {
+      out.Capsules.radii.assign(1, tubeRadius);
+    }
+    else
+    {
+      out.Capsules = whitted::CapsuleSet();
+      issues.NoTubeRadius = true;
+    }
   }
 
   // Surfaces
@@ -455,19 +659,40 @@ void vtkWhittedPolyDataConverter::Convert(
     return;
   }
   TriangleList tl;
-  Triangulate(poly, tl);
+  Triangulate(points, cells, tl, issues.InvalidCells);
   if (tl.Tris.empty())
   {
     return;
   }
 
-  // Normals, by VTK's rule: point normals unless flat, else cell normals, else facet normals
+  // Normals, by VTK's rule: point normals unless flat, else cell normals, else facet normals.
+  // Arrays shorter than what they describe are ignored; bad vectors are left to the core (which
+  // falls back to the facet normal) but counted.
   vtkDataArray* pointNormals = o.Flat ? nullptr : poly->GetPointData()->GetNormals();
-  if (pointNormals && pointNormals->GetNumberOfTuples() < np)
+  if (pointNormals &&
+    (pointNormals->GetNumberOfTuples() < np || pointNormals->GetNumberOfComponents() != 3))
   {
     pointNormals = nullptr;
+    issues.ShortNormals = true;
   }
   vtkDataArray* cellNormals = pointNormals ? nullptr : poly->GetCellData()->GetNormals();
+  if (cellNormals &&
+    (cellNormals->GetNumberOfTuples() < cells.Total || cellNormals->GetNumberOfComponents() != 3))
+  {
+    cellNormals = nullptr;
+    issues.ShortNormals = true;
+  }
+  auto normal = [&](vtkDataArray* normals, vtkIdType i)
+  {
+    double n[3];
+    normals->GetTuple(i, n);
+    const Vec3f v(static_cast<float>(n[0]), static_cast<float>(n[1]), static_cast<float>(n[2]));
+    if (!whitted::isFinite(v) || !(glm::dot(v, v) > 0.0f))
+    {
+      ++issues.BadNormals;
+    }
+    return v;
+  };
 
   vtkDataArray* tcoords = nullptr;
   if (o.TCoords)
@@ -478,9 +703,12 @@ void vtkWhittedPolyDataConverter::Convert(
   {
     tcoords = colors.Coordinates;
   }
-  if (tcoords && (tcoords->GetNumberOfTuples() < np || tcoords->GetNumberOfComponents() < 1))
+  if (tcoords &&
+    (tcoords->GetNumberOfTuples() < np || tcoords->GetNumberOfComponents() < 1 ||
+      tcoords->GetNumberOfComponents() > 3))
   {
     tcoords = nullptr;
+    issues.ShortTCoords = true;
   }
   auto tcoord = [&](vtkIdType i)
   {
@@ -506,9 +734,7 @@ void vtkWhittedPolyDataConverter::Convert(
       m.normals.resize(static_cast<size_t>(np));
       for (vtkIdType i = 0; i < np; ++i)
       {
-        double n[3];
-        pointNormals->GetTuple(i, n);
-        m.normals[i] = Vec3f(n[0], n[1], n[2]);
+        m.normals[i] = normal(pointNormals, i);
       }
     }
     if (colors.PointColors())
@@ -544,16 +770,21 @@ void vtkWhittedPolyDataConverter::Convert(
     {
       m.texcoords.resize(nt * 3);
     }
+    vtkIdType lastCell = -1;
+    Vec3f n(0.0f);
     for (size_t t = 0; t < nt; ++t)
     {
-      double n[3];
-      cellNormals->GetTuple(std::min(tl.Cells[t], cellNormals->GetNumberOfTuples() - 1), n);
+      if (tl.Cells[t] != lastCell)
+      {
+        lastCell = tl.Cells[t];
+        n = normal(cellNormals, lastCell);
+      }
       for (int k = 0; k < 3; ++k)
       {
         const vtkIdType pid = tl.Tris[t][k];
         const size_t v = t * 3 + k;
         m.positions[v] = point(pid);
-        m.normals[v] = Vec3f(n[0], n[1], n[2]);
+        m.normals[v] = n;
         if (colors.PointColors())
         {
           m.vertexColors[v] = colors.Point(pid);

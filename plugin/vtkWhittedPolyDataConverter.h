@@ -20,12 +20,18 @@
  * the input's diagonal / 1000 (VTK's OSPRay pass makes the same choice). In points representation
  * every point used by a cell is a sphere; in wireframe representation every polygon / strip edge
  * (once) is a tube.
+ * - Bad input never reaches the tracer unchecked: cells with point ids out of range and malformed
+ * cell arrays are skipped, attribute arrays shorter than the points (cells) they describe are
+ * ignored, spheres / tubes without a positive radius are left out; non-finite points, normals and
+ * colours are left to the core, which skips or sanitises them. Everything found is counted in
+ * Primitives::Issues.
  */
 
 #ifndef vtkWhittedPolyDataConverter_h
 #define vtkWhittedPolyDataConverter_h
 
 #include "vtkProperty.h" // for VTK_SURFACE
+#include "vtkType.h"     // for vtkIdType
 
 #include "material.h" // whitted::Texture
 #include "shapes.h"   // whitted::TriangleMesh, SphereSet, CapsuleSet
@@ -59,6 +65,33 @@ public:
     }
   };
 
+  /// What was wrong with the input and left out (the scene converter warns once per actor).
+  struct Problems
+  {
+    /// Points with a NaN or infinite coordinate (the core skips the cells using them).
+    vtkIdType NonFinitePoints = 0;
+    /// Cells using point ids outside [0, number of points): skipped.
+    vtkIdType InvalidCells = 0;
+    /// Cell arrays whose offsets do not fit their connectivity: skipped.
+    int MalformedCellArrays = 0;
+    /// NaN, infinite or zero-length normals (the core uses the facet normal there).
+    vtkIdType BadNormals = 0;
+    /// A normals array with fewer tuples than points (cells) or not 3 components: ignored.
+    bool ShortNormals = false;
+    /// Colours mapped from an array shorter than the points (cells) they colour: ignored.
+    bool ShortScalars = false;
+    /// Scalars used directly as colours from a char array or without 1 to 4 components: ignored.
+    bool UnusableColors = false;
+    /// Texture coordinates with fewer tuples than points or more than 3 components: ignored.
+    bool ShortTCoords = false;
+    /// Spheres wanted but PointSize gives no positive finite radius: left out.
+    bool NoSphereRadius = false;
+    /// Tubes wanted but LineWidth gives no positive finite radius: left out.
+    bool NoTubeRadius = false;
+    /// Number of points of the input (for the messages).
+    vtkIdType NumberOfPoints = 0;
+  };
+
   /// The primitives of one polydata, in the polydata's (object) coordinates.
   struct Primitives
   {
@@ -69,6 +102,12 @@ public:
     bool HasColorTexture = false; ///< InterpolateScalarsBeforeMapping: ColorTexture + texcoords.
     whitted::Texture ColorTexture;
     bool TCoords = false; ///< The triangles carry texture coordinates.
+    Problems Issues;      ///< Bad input found (and left out) while converting.
+    /// Positions, centres and end points are relative to this point of the polydata's coordinates
+    /// (place the objects with a translation by Origin). Zero unless the data lies far from its
+    /// coordinate origin compared to its size (e.g. a model translated by 1e7): the tracer's BVH
+    /// bounds are single precision, and would lose their tightness there.
+    whitted::Vec3 Origin{ 0.0 };
   };
 
   /**
@@ -85,6 +124,12 @@ public:
    */
   static whitted::Texture ConvertImage(
     vtkImageData* image, vtkDataArray* scalars, vtkTexture* texture);
+
+private:
+  static void ConvertPrimitives(vtkPolyData* poly, vtkMapper* mapper, const Options& options,
+    double radiusScale, Primitives& out);
+  // Moves the primitives' coordinates to Primitives::Origin when the data lies far from its origin.
+  static void Recentre(Primitives& out);
 };
 
 #endif

@@ -7,6 +7,7 @@
 #include "vtkAssembly.h"
 #include "vtkAssemblyNode.h"
 #include "vtkAssemblyPath.h"
+#include "vtkBoundingBox.h"
 #include "vtkCompositeDataDisplayAttributes.h"
 #include "vtkCompositePolyDataMapper2.h"
 #include "vtkDataObjectTree.h"
@@ -21,6 +22,7 @@
 #include "vtkLightCollection.h"
 #include "vtkMatrix4x4.h"
 #include "vtkPointData.h"
+#include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkPropCollection.h"
@@ -99,6 +101,8 @@ struct Geometry
   bool ScalarColors = false; // primitives carry colours mapped from scalars
   int ColorTexture = -1;     // InterpolateScalarsBeforeMapping: scene texture of the colour map
   bool TCoords = false;      // the triangles carry texture coordinates
+  vtkWhittedPolyDataConverter::Problems Issues; // bad input left out (warned once per actor)
+  Vec3 Origin{ 0.0 }; // the objects' coordinates are relative to this point
   unsigned long LastFrame = 0;
 };
 
@@ -212,7 +216,93 @@ std::string SanitizeMessage(uint32_t bits)
     }
   }
   return (msg.empty() ? std::string("a material value") : msg) +
-    " out of range or not finite: clamped (INDEX_OF_REFRACTION <= 0 becomes 1)";
+    " out of range or not finite: clamped" +
+    ((bits & (1u << 6)) ? " (an INDEX_OF_REFRACTION <= 0 or NaN becomes 1)" : "");
+}
+
+// Warning bits of input problems (distinct from sanitizeMaterial's bits 0-7 and the 1 << 16..18
+// bits of unsupported settings)
+enum ProblemBit : uint32_t
+{
+  BitNonFinitePoints = 1u << 20,
+  BitInvalidCells = 1u << 21,
+  BitMalformedCells = 1u << 22,
+  BitBadNormals = 1u << 23,
+  BitShortNormals = 1u << 24,
+  BitShortScalars = 1u << 25,
+  BitShortTCoords = 1u << 26,
+  BitNoSphereRadius = 1u << 27,
+  BitNoTubeRadius = 1u << 28,
+  BitUnusableColors = 1u << 30
+};
+
+// The problems of one converted geometry, in words, with the bit each is warned under.
+std::vector<std::pair<uint32_t, std::string>> ProblemMessages(
+  const vtkWhittedPolyDataConverter::Problems& p, vtkProperty* prop)
+{
+  std::vector<std::pair<uint32_t, std::string>> out;
+  const std::string np = std::to_string(p.NumberOfPoints);
+  if (p.NonFinitePoints)
+  {
+    out.emplace_back(BitNonFinitePoints,
+      std::to_string(p.NonFinitePoints) + " of " + np +
+        " points have NaN or infinite coordinates: the cells using them are not drawn");
+  }
+  if (p.InvalidCells)
+  {
+    out.emplace_back(BitInvalidCells,
+      std::to_string(p.InvalidCells) + " cells use point ids outside [0, " + np +
+        "): they are not drawn");
+  }
+  if (p.MalformedCellArrays)
+  {
+    out.emplace_back(BitMalformedCells,
+      std::to_string(p.MalformedCellArrays) +
+        " cell arrays are malformed (offsets do not match the connectivity): not drawn");
+  }
+  if (p.BadNormals)
+  {
+    out.emplace_back(BitBadNormals,
+      std::to_string(p.BadNormals) +
+        " normals are NaN, infinite or zero-length: the facet normal is used there");
+  }
+  if (p.ShortNormals)
+  {
+    out.emplace_back(BitShortNormals,
+      "the normals array has fewer tuples than points (cells) or not 3 components: ignored, "
+      "facet normals used");
+  }
+  if (p.ShortScalars)
+  {
+    out.emplace_back(BitShortScalars,
+      "the colour array has fewer tuples than the points (cells) it colours: ignored, the "
+      "property colour is used");
+  }
+  if (p.UnusableColors)
+  {
+    out.emplace_back(BitUnusableColors,
+      "the scalars are used directly as colours but have no 1 to 4 components (or are a char "
+      "array): ignored, the property colour is used");
+  }
+  if (p.ShortTCoords)
+  {
+    out.emplace_back(BitShortTCoords,
+      "the texture coordinates have fewer tuples than points or more than 3 components: the "
+      "texture is not applied");
+  }
+  if (p.NoSphereRadius)
+  {
+    out.emplace_back(BitNoSphereRadius,
+      "PointSize " + std::to_string(prop->GetPointSize()) +
+        " gives spheres no positive radius: the points (vertices) are not drawn");
+  }
+  if (p.NoTubeRadius)
+  {
+    out.emplace_back(BitNoTubeRadius,
+      "LineWidth " + std::to_string(prop->GetLineWidth()) +
+        " gives tubes no positive radius: the lines are not drawn");
+  }
+  return out;
 }
 
 } // namespace
@@ -318,8 +408,9 @@ struct vtkWhittedSceneConverter::Internals
 
   //----------------------------------------------------------------------------
   // Converted geometry of one piece, converted again only if something it depends on changed.
+  template <typename RadiusScaleFn>
   Geometry& GetGeometry(vtkMapper* mapper, vtkPolyData* poly,
-    const vtkWhittedPolyDataConverter::Options& opts, double radiusScale, int& converted)
+    const vtkWhittedPolyDataConverter::Options& opts, RadiusScaleFn&& radiusScale, int& converted)
   {
     GeometryKey key{ mapper, poly, opts };
     Geometry& g = this->Geometries[key];
@@ -339,7 +430,7 @@ struct vtkWhittedSceneConverter::Internals
     }
 
     vtkWhittedPolyDataConverter::Primitives c;
-    vtkWhittedPolyDataConverter::Convert(poly, mapper, opts, radiusScale, c);
+    vtkWhittedPolyDataConverter::Convert(poly, mapper, opts, radiusScale(), c);
     ++converted;
 
     if (g.ColorTexture >= 0)
@@ -377,6 +468,8 @@ struct vtkWhittedSceneConverter::Internals
     }
     g.ScalarColors = c.ScalarColors;
     g.TCoords = c.TCoords;
+    g.Issues = c.Issues;
+    g.Origin = c.Origin;
     // Mapping scalars may have created a lookup table or touched the mapper: stamp afterwards
     g.Stamp = stamp();
     return g;
@@ -458,7 +551,9 @@ struct vtkWhittedSceneConverter::Internals
     }
 
     // Whitted terms from the property's information keys; defaults keep VTK's look
-    m.transmittance = Color(1.0f - m.opacity);
+    // (from an Opacity that is in range: a NaN or out-of-range Opacity is one problem, not two)
+    const float opacity = std::isfinite(m.opacity) ? std::clamp(m.opacity, 0.0f, 1.0f) : 1.0f;
+    m.transmittance = Color(1.0f - opacity);
     m.ior = 1.0f;
     if (vtkInformation* info = p->GetInformation())
     {
@@ -666,23 +761,80 @@ struct vtkWhittedSceneConverter::Internals
     opts.LineWidth = p->GetLineWidth();
     vtkTexture* texture = actor->GetTexture();
     opts.TCoords = texture != nullptr;
-    // Sphere and tube radii as VTK's OSPRay pass chooses them: size * (data diagonal / 1000)
-    double length = vtkDataSet::SafeDownCast(input) ? vtkDataSet::SafeDownCast(input)->GetLength()
-                                                    : mapper->GetLength();
-    const double radiusScale = (length > 0.0 && std::isfinite(length) ? length : 1.0) / 1000.0;
+    // Sphere and tube radii as VTK's OSPRay pass chooses them: size * (data diagonal / 1000). The
+    // diagonal is that of the finite points of all pieces (never the mapper's cell bounds: those
+    // read points through connectivity that may be invalid), computed only if a piece is converted.
+    double radiusScale = -1.0;
+    auto radiusScaleFn = [&pieces, &radiusScale]()
+    {
+      if (radiusScale < 0.0)
+      {
+        vtkBoundingBox box;
+        for (const Piece& piece : pieces)
+        {
+          vtkPoints* points = piece.Poly->GetPoints();
+          for (vtkIdType i = 0, n = points ? points->GetNumberOfPoints() : 0; i < n; ++i)
+          {
+            double x[3];
+            points->GetPoint(i, x);
+            if (std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]))
+            {
+              box.AddPoint(x);
+            }
+          }
+        }
+        const double length = box.IsValid() ? box.GetDiagonalLength() : 0.0;
+        radiusScale = (length > 0.0 && std::isfinite(length) ? length : 1.0) / 1000.0;
+      }
+      return radiusScale;
+    };
 
     const int actorTexture = texture ? this->GetTexture(texture) : -1;
     const Mat4 matrix = ToMat4(leaf.Matrix ? leaf.Matrix : actor->GetMatrix());
+    for (int c = 0; c < 4; ++c)
+    {
+      if (!whitted::isFinite(Vec3(matrix[c])) || !std::isfinite(matrix[c][3]))
+      {
+        this->WarnOnce(actor, 1u << 29,
+          "its matrix (Position, Orientation, Scale, Origin, UserMatrix) has NaN or infinite "
+          "entries: not drawn");
+        return true;
+      }
+    }
+    // The tracer intersects in object space: a matrix without a finite inverse (a zero Scale
+    // flattening the actor) cannot be traced
+    const whitted::Mat3 linear(matrix);
+    const whitted::Mat3 inverse = glm::inverse(linear);
+    if (!(std::abs(glm::determinant(linear)) > 0.0) ||
+      !(whitted::isFinite(inverse[0]) && whitted::isFinite(inverse[1]) &&
+        whitted::isFinite(inverse[2])))
+    {
+      this->WarnOnce(actor, 1u << 31,
+        "its matrix is singular (e.g. a zero Scale flattening it): the ray tracer cannot draw "
+        "it");
+      return true;
+    }
     for (size_t i = 0; i < pieces.size(); ++i)
     {
-      Geometry& g = this->GetGeometry(mapper, pieces[i].Poly, opts, radiusScale, converted);
+      Geometry& g = this->GetGeometry(mapper, pieces[i].Poly, opts, radiusScaleFn, converted);
+      for (const auto& problem : ProblemMessages(g.Issues, p))
+      {
+        this->WarnOnce(actor, problem.first,
+          pieces.size() > 1 ? "block " + std::to_string(i) + ": " + problem.second
+                            : problem.second);
+      }
       const whitted::Material material = this->MakeMaterial(actor, pieces[i], g, actorTexture);
+      Mat4 placed = matrix;
+      if (g.Origin != Vec3(0.0))
+      {
+        placed[3] = matrix * whitted::Vec4(g.Origin, 1.0); // matrix * translate(Origin)
+      }
       for (int k = 0; k < KindCount; ++k)
       {
         if (g.Objects[k] >= 0)
         {
           this->PlaceInstance(InstanceKey{ actor, leaf.Occurrence, static_cast<int>(i), k },
-            static_cast<uint32_t>(g.Objects[k]), matrix, material);
+            static_cast<uint32_t>(g.Objects[k]), placed, material);
         }
       }
     }

@@ -3,10 +3,15 @@
 #define WhittedTestUtilities_h
 
 #include "vtkActor.h"
+#include "vtkCallbackCommand.h"
 #include "vtkCellData.h"
+#include "vtkCommand.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkNew.h"
 #include "vtkPlaneSource.h"
+#include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkProperty.h"
@@ -16,8 +21,12 @@
 #include "vtkSphereSource.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkWhittedPass.h"
+#include "vtkWindowToImageFilter.h"
 
 #include <cmath>
+#include <cstdlib>
+#include <string>
+#include <vector>
 
 namespace whittedtest
 {
@@ -115,6 +124,91 @@ inline vtkSmartPointer<vtkActor> Sphere(double x, double y, double z, double r, 
   actor->SetMapper(mapper);
   return actor;
 }
+
+/// The window's RGB pixels after the last render (rows bottom to top), without rendering again.
+inline std::vector<unsigned char> GrabPixels(vtkRenderWindow* win)
+{
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(win);
+  grab->SetInputBufferTypeToRGB();
+  grab->ReadFrontBufferOff();
+  grab->ShouldRerenderOff();
+  grab->Update();
+  vtkDataArray* a = grab->GetOutput()->GetPointData()->GetScalars();
+  auto* p = static_cast<unsigned char*>(a->GetVoidPointer(0));
+  return std::vector<unsigned char>(p, p + a->GetNumberOfValues());
+}
+
+/// Pixels (RGB triples) whose colour differs by more than tol 8-bit steps in any channel.
+inline int DifferingPixels(
+  const std::vector<unsigned char>& a, const std::vector<unsigned char>& b, int tol)
+{
+  if (a.size() != b.size())
+  {
+    return static_cast<int>(std::max(a.size(), b.size()) / 3);
+  }
+  int n = 0;
+  for (size_t i = 0; i + 2 < a.size(); i += 3)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      if (std::abs(int(a[i + c]) - int(b[i + c])) > tol)
+      {
+        ++n;
+        break;
+      }
+    }
+  }
+  return n;
+}
+
+/// Values of the pass's last traced frame (colour and depth) that are NaN or infinite; -1 if the
+/// pass kept no frame.
+inline int NonFiniteValues(vtkWhittedPass* pass)
+{
+  vtkNew<vtkFloatArray> rgba;
+  vtkNew<vtkFloatArray> depth;
+  pass->GetLastFrame(rgba, depth);
+  if (rgba->GetNumberOfTuples() == 0)
+  {
+    return -1;
+  }
+  int n = 0;
+  for (vtkFloatArray* a : { rgba.Get(), depth.Get() })
+  {
+    for (vtkIdType i = 0; i < a->GetNumberOfValues(); ++i)
+    {
+      n += std::isfinite(a->GetValue(i)) ? 0 : 1;
+    }
+  }
+  return n;
+}
+
+/// Collects the warning and error messages an object emits (vtkWarningMacro / vtkErrorMacro).
+class MessageLog
+{
+public:
+  MessageLog()
+  {
+    this->Callback->SetCallback(&MessageLog::OnEvent);
+    this->Callback->SetClientData(this);
+  }
+  void Observe(vtkObject* o)
+  {
+    o->AddObserver(vtkCommand::WarningEvent, this->Callback);
+    o->AddObserver(vtkCommand::ErrorEvent, this->Callback);
+  }
+  std::vector<std::string> Warnings, Errors;
+
+private:
+  static void OnEvent(vtkObject*, unsigned long event, void* clientData, void* callData)
+  {
+    auto* self = static_cast<MessageLog*>(clientData);
+    const std::string text = callData ? static_cast<const char*>(callData) : "";
+    (event == vtkCommand::ErrorEvent ? self->Errors : self->Warnings).push_back(text);
+  }
+  vtkNew<vtkCallbackCommand> Callback;
+};
 
 } // namespace whittedtest
 

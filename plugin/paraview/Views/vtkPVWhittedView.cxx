@@ -1,0 +1,439 @@
+#include "vtkPVWhittedView.h"
+
+#include "vtkAlgorithm.h"
+#include "vtkCommand.h"
+#include "vtkCommunicator.h"
+#include "vtkMultiProcessController.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLState.h"
+#include "vtkPVDataRepresentation.h"
+#include "vtkPVProgressHandler.h"
+#include "vtkPVRenderViewDataDeliveryManager.h"
+#include "vtkPVSession.h"
+#include "vtkPVSynchronizedRenderer.h"
+#include "vtkPVWhittedPass.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+vtkStandardNewMacro(vtkPVWhittedView);
+
+namespace
+{
+/**
+ * A render pass that draws nothing: ranks that contribute no pixels to a parallel frame run it
+ * inside IceT's draw callback, which has already cleared their image to depth 1 / alpha 0.
+ */
+class vtkWhittedIdlePass : public vtkRenderPass
+{
+public:
+  static vtkWhittedIdlePass* New();
+  vtkTypeMacro(vtkWhittedIdlePass, vtkRenderPass);
+  void Render(const vtkRenderState*) override { this->NumberOfRenderedProps = 0; }
+
+protected:
+  vtkWhittedIdlePass() = default;
+  ~vtkWhittedIdlePass() override = default;
+};
+vtkStandardNewMacro(vtkWhittedIdlePass);
+}
+
+//------------------------------------------------------------------------------
+vtkPVWhittedView::vtkPVWhittedView()
+{
+  // vtkPVRenderView's constructor has created SynchronizedRenderers: it installs the pass on the
+  // renderer (builtin, client) or inside IceT's composite pass (parallel), where a raster view
+  // would rasterise.
+  this->SynchronizedRenderers->SetRenderPass(this->WhittedPass);
+  this->InstalledPass = this->WhittedPass;
+  this->IdlePass.TakeReference(vtkWhittedIdlePass::New());
+
+  // Level of detail is never used (see SetLODRenderingThreshold), nor FXAA (see SetUseFXAA).
+  this->Superclass::SetLODRenderingThreshold(VTK_DOUBLE_MAX);
+  this->Superclass::SetUseFXAA(false);
+
+  // Progress: ParaView's progress handler relays ProgressEvents of registered algorithms to the
+  // GUI's progress bar (and from a server to its client). The pass is not an algorithm, so a bare
+  // vtkAlgorithm stands in for it.
+  this->ProgressReporter->SetProgressText("Whitted ray tracing");
+  if (vtkPVSession* session = this->GetSession())
+  {
+    if (vtkPVProgressHandler* handler = session->GetProgressHandler())
+    {
+      handler->RegisterProgressEvent(this->ProgressReporter, 0);
+    }
+  }
+  this->WhittedPass->AddObserver(
+    vtkCommand::ProgressEvent, this, &vtkPVWhittedView::ForwardProgress);
+  // Every frame the tracer runs ends with EndEvent (diagnostics: TracedFrameCount).
+  this->WhittedPass->AddObserver(vtkCommand::EndEvent, this, &vtkPVWhittedView::CountFrame);
+}
+
+//------------------------------------------------------------------------------
+vtkPVWhittedView::~vtkPVWhittedView()
+{
+  this->WhittedPass->RemoveObservers(vtkCommand::ProgressEvent);
+  this->WhittedPass->RemoveObservers(vtkCommand::EndEvent);
+  this->SynchronizedRenderers->SetRenderPass(nullptr);
+}
+
+//------------------------------------------------------------------------------
+// Pass settings: one line each.
+void vtkPVWhittedView::SetMaxDepth(int value)
+{
+  this->WhittedPass->SetMaxDepth(value);
+}
+int vtkPVWhittedView::GetMaxDepth()
+{
+  return this->WhittedPass->GetMaxDepth();
+}
+void vtkPVWhittedView::SetSamplesPerPixel(int value)
+{
+  this->WhittedPass->SetSamplesPerPixel(value);
+}
+int vtkPVWhittedView::GetSamplesPerPixel()
+{
+  return this->WhittedPass->GetSamplesPerPixel();
+}
+void vtkPVWhittedView::SetAdaptiveSampling(bool value)
+{
+  this->WhittedPass->SetAdaptiveSampling(value);
+}
+bool vtkPVWhittedView::GetAdaptiveSampling()
+{
+  return this->WhittedPass->GetAdaptiveSampling();
+}
+void vtkPVWhittedView::SetShadows(bool value)
+{
+  this->WhittedPass->SetShadows(value);
+}
+bool vtkPVWhittedView::GetShadows()
+{
+  return this->WhittedPass->GetShadows();
+}
+void vtkPVWhittedView::SetReflections(bool value)
+{
+  this->WhittedPass->SetReflections(value);
+}
+bool vtkPVWhittedView::GetReflections()
+{
+  return this->WhittedPass->GetReflections();
+}
+void vtkPVWhittedView::SetRefractions(bool value)
+{
+  this->WhittedPass->SetRefractions(value);
+}
+bool vtkPVWhittedView::GetRefractions()
+{
+  return this->WhittedPass->GetRefractions();
+}
+void vtkPVWhittedView::SetContributionThreshold(double value)
+{
+  this->WhittedPass->SetContributionThreshold(value);
+}
+double vtkPVWhittedView::GetContributionThreshold()
+{
+  return this->WhittedPass->GetContributionThreshold();
+}
+void vtkPVWhittedView::SetNumberOfThreads(int value)
+{
+  this->WhittedPass->SetNumberOfThreads(value);
+}
+int vtkPVWhittedView::GetNumberOfThreads()
+{
+  return this->WhittedPass->GetNumberOfThreads();
+}
+void vtkPVWhittedView::SetFresnel(bool value)
+{
+  this->WhittedPass->SetFresnel(value);
+}
+bool vtkPVWhittedView::GetFresnel()
+{
+  return this->WhittedPass->GetFresnel();
+}
+
+vtkWhittedPass* vtkPVWhittedView::GetWhittedPass()
+{
+  return this->WhittedPass;
+}
+const char* vtkPVWhittedView::GetLastFrameReport()
+{
+  return this->LastFrameReport.c_str();
+}
+int vtkPVWhittedView::GetLastGeometriesConverted()
+{
+  return this->WhittedPass->GetLastNumberOfGeometriesConverted();
+}
+int vtkPVWhittedView::GetLastObjectsRebuilt()
+{
+  return this->WhittedPass->GetLastNumberOfObjectsRebuilt();
+}
+
+//------------------------------------------------------------------------------
+void vtkPVWhittedView::SetLODRenderingThreshold(double)
+{
+  // Tracing the decimated LOD geometry would convert it and build its BVH on every switch between
+  // LOD and full geometry; tracing the full geometry (converted once, cached) is cheaper. Pin the
+  // threshold.
+  this->Superclass::SetLODRenderingThreshold(VTK_DOUBLE_MAX);
+}
+
+//------------------------------------------------------------------------------
+void vtkPVWhittedView::SetReplicateGeometry(bool value)
+{
+  if (this->ReplicateGeometry == value)
+  {
+    return;
+  }
+  this->ReplicateGeometry = value;
+  // What is already delivered was moved in the old mode and is not moved again unless it changes:
+  // have every representation produce its geometry again, so the next update delivers it in the new
+  // mode.
+  for (int i = 0, n = this->GetNumberOfRepresentations(); i < n; ++i)
+  {
+    if (auto repr = vtkPVDataRepresentation::SafeDownCast(this->GetRepresentation(i)))
+    {
+      repr->MarkModified();
+    }
+  }
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+void vtkPVWhittedView::SetUseFXAA(bool)
+{
+  this->Superclass::SetUseFXAA(false);
+}
+
+//------------------------------------------------------------------------------
+void vtkPVWhittedView::UpdateBackground(vtkRenderer* renderer)
+{
+  this->Superclass::UpdateBackground(renderer);
+  vtkRenderer* ren = renderer ? renderer : this->GetRenderer();
+  this->WhittedPass->SetEnvironment(
+    ren->GetBackground(), ren->GetBackground2(), ren->GetGradientBackground());
+}
+
+//------------------------------------------------------------------------------
+void vtkPVWhittedView::Update()
+{
+  this->Superclass::Update();
+
+  // Decide replication once per update with the same answer on every process (client included): the
+  // data movers of all processes must agree on the delivery mode or they deadlock.
+  auto controller = vtkMultiProcessController::GetGlobalController();
+  const vtkTypeUInt64 localRanks = controller ? controller->GetNumberOfProcesses() : 1;
+  vtkTypeUInt64 maxRanks = localRanks;
+  this->AllReduce(localRanks, maxRanks, vtkCommunicator::MAX_OP);
+  this->GeometryReplicated = this->ReplicateGeometry && maxRanks > 1 &&
+    !this->InTileDisplayMode() && !this->InCaveDisplayMode();
+
+  // Every representation that gave the view a piece in REQUEST_UPDATE gets it delivered to all
+  // ranks (vtkMPIMoveData CLONE) instead of passed through. This is
+  // vtkPVRenderView::SetDeliverToAllProcesses() done by the view for all representations, so stock
+  // ones (Surface, Points, ...) are replicated too.
+  auto manager = vtkPVRenderViewDataDeliveryManager::SafeDownCast(this->GetDeliveryManager());
+  if (!manager)
+  {
+    return;
+  }
+  for (int i = 0, n = this->GetNumberOfRepresentations(); i < n; ++i)
+  {
+    auto repr = vtkPVDataRepresentation::SafeDownCast(this->GetRepresentation(i));
+    if (!repr)
+    {
+      continue;
+    }
+    for (int port = 0, ports = manager->GetNumberOfPorts(repr); port < ports; ++port)
+    {
+      if (manager->HasPiece(repr, false, port))
+      {
+        manager->SetDeliverToAllProcesses(repr, this->GeometryReplicated, false, port);
+      }
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkPVWhittedView::ChooseImageReduction()
+{
+  // Tracing time scales with the number of pixels, 1/f^2. InteractiveFullFrameCost estimates what
+  // an interactive-quality frame would cost at full size; the rest of a frame (compositing,
+  // overlays) does not shrink with f, so it is taken out of the budget first.
+  if (this->InteractiveFullFrameCost <= 0.0)
+  {
+    return 1;
+  }
+  const double budget =
+    std::max(this->InteractiveFrameTime - this->LastFixedTime, 0.25 * this->InteractiveFrameTime);
+  const double f = std::sqrt(this->InteractiveFullFrameCost / budget);
+  return std::max(1, std::min(this->MaximumImageReduction, static_cast<int>(std::ceil(f - 0.05))));
+}
+
+//------------------------------------------------------------------------------
+void vtkPVWhittedView::Render(bool interactive, bool skip_rendering)
+{
+  vtkWhittedPass* pass = this->WhittedPass;
+  const int framesBefore = this->TracedFrameCount;
+
+  // Image split: every rank holds the whole scene (replicated), traces every N-th tile and writes
+  // depth 1 / alpha 0 elsewhere; IceT's depth (or ordered blend) compositing then assembles the
+  // frame.
+  auto controller = vtkMultiProcessController::GetGlobalController();
+  const bool distributed = interactive ? this->GetUseDistributedRenderingForLODRender()
+                                       : this->GetUseDistributedRenderingForRender();
+  const int ranks = controller ? controller->GetNumberOfProcesses() : 1;
+  const bool split = this->GeometryReplicated && distributed && ranks > 1;
+  this->LastImageSplit[0] = split ? ranks : 1;
+  this->LastImageSplit[1] = split ? controller->GetLocalProcessId() : 0;
+#ifdef WHITTED_PASS_HAS_IMAGE_SPLIT
+  pass->SetImageSplit(this->LastImageSplit[0], this->LastImageSplit[1]);
+#endif
+
+  // Interactive quality: 1 sample, fewer bounces, optionally no shadows, reduced resolution. The
+  // user's settings are restored right after the frame, so still frames (and anything else that
+  // renders the window) get full quality.
+  const int maxDepth = pass->GetMaxDepth();
+  const int samples = pass->GetSamplesPerPixel();
+  const bool adaptive = pass->GetAdaptiveSampling();
+  const bool shadows = pass->GetShadows();
+  int reduction = 1;
+  if (interactive)
+  {
+    pass->SetMaxDepth(std::min(maxDepth, this->InteractiveMaxDepth));
+    pass->SetSamplesPerPixel(1);
+    pass->SetAdaptiveSampling(false);
+    pass->SetShadows(shadows && this->InteractiveShadows);
+#ifdef WHITTED_PASS_HAS_IMAGE_REDUCTION
+    reduction = this->ChooseImageReduction();
+    if (split)
+    {
+      // Every rank must trace the same pixel grid, or their tiles do not fit together.
+      int agreed = reduction;
+      controller->AllReduce(&reduction, &agreed, 1, vtkCommunicator::MAX_OP);
+      reduction = agreed;
+    }
+    pass->SetImageReductionFactor(reduction);
+#endif
+  }
+
+  // Which pass this process runs. A process that draws no geometry in this frame (the client while
+  // the server renders: ParaView's culler hands the renderer no props) runs ParaView's default
+  // pass, not the tracer: no rays, no upload. With a pass that cannot split the image, every rank
+  // would trace the whole replicated scene and IceT's ordered blending would add translucent pixels
+  // once per rank, so rank 0 traces everything and the other ranks contribute nothing (correct, no
+  // speed-up). Otherwise: the tracer.
+  const bool drawsGeometry = this->IsProcessRenderingGeometriesForCompositing(distributed);
+#ifdef WHITTED_PASS_HAS_IMAGE_SPLIT
+  const bool idle = false;
+#else
+  const bool idle = split && controller->GetLocalProcessId() != 0;
+  this->LastImageSplit[0] = idle ? 0 : 1;
+  this->LastImageSplit[1] = 0;
+#endif
+  vtkRenderPass* wanted = !drawsGeometry ? nullptr
+    : idle                               ? this->IdlePass.Get()
+                                         : static_cast<vtkRenderPass*>(this->WhittedPass.Get());
+  if (wanted != this->InstalledPass)
+  {
+    this->SynchronizedRenderers->SetRenderPass(wanted);
+    this->InstalledPass = wanted;
+  }
+
+  const auto start = std::chrono::steady_clock::now();
+  this->Superclass::Render(interactive, skip_rendering);
+  const double seconds =
+    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  if (interactive)
+  {
+    pass->SetMaxDepth(maxDepth);
+    pass->SetSamplesPerPixel(samples);
+    pass->SetAdaptiveSampling(adaptive);
+    pass->SetShadows(shadows);
+#ifdef WHITTED_PASS_HAS_IMAGE_REDUCTION
+    pass->SetImageReductionFactor(1);
+#endif
+  }
+  if (skip_rendering)
+  {
+    return;
+  }
+
+  // Bookkeeping for the next interactive frame and for diagnostics (only if the tracer ran here).
+  if (this->TracedFrameCount > framesBefore)
+  {
+    this->LastRenderTime = seconds;
+    // What does not scale with the traced pixels: compositing, OpenGL stages, IceT, swap
+    // (conversion and BVH builds happen only when data changes and are left out).
+    this->LastFixedTime = std::max(0.0,
+      seconds - pass->GetLastTraceTime() - pass->GetLastBuildTime() -
+        pass->GetLastConversionTime());
+    const double fullFrameCost = pass->GetLastTraceTime() * reduction * reduction;
+    if (interactive && this->LastFrameInteractive && this->InteractiveFullFrameCost > 0.0)
+    {
+      // Smooth over frames: the view direction changes what is hit and how often rays bounce.
+      this->InteractiveFullFrameCost = 0.5 * (this->InteractiveFullFrameCost + fullFrameCost);
+    }
+    else
+    {
+      // A still frame (more samples and bounces) over-estimates an interactive one: a safe start.
+      this->InteractiveFullFrameCost = fullFrameCost;
+    }
+    this->LastFrameReport = pass->GetLastFrameReport();
+  }
+  this->LastFrameInteractive = interactive;
+  this->LastImageReduction = reduction;
+}
+
+//------------------------------------------------------------------------------
+void vtkPVWhittedView::CountFrame(vtkObject*, unsigned long, void*)
+{
+  ++this->TracedFrameCount;
+}
+
+//------------------------------------------------------------------------------
+void vtkPVWhittedView::ForwardProgress(vtkObject*, unsigned long, void* callData)
+{
+  if (!callData)
+  {
+    return;
+  }
+  // In the GUI the progress bar repaints right away, in the middle of this frame: Qt composites the
+  // main window with another GL context, and making the view's context current again makes Qt bind
+  // its widget framebuffer. Put back the framebuffers VTK is rendering into.
+  auto* win = vtkOpenGLRenderWindow::SafeDownCast(this->GetRenderWindow());
+  vtkOpenGLState* state = win ? win->GetState() : nullptr;
+  if (state)
+  {
+    state->PushFramebufferBindings();
+  }
+  this->ProgressReporter->UpdateProgress(*static_cast<double*>(callData));
+  if (state)
+  {
+    win->MakeCurrent();
+    state->PopFramebufferBindings();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPVWhittedView::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "InteractiveFrameTime: " << this->InteractiveFrameTime << "\n";
+  os << indent << "MaximumImageReduction: " << this->MaximumImageReduction << "\n";
+  os << indent << "InteractiveMaxDepth: " << this->InteractiveMaxDepth << "\n";
+  os << indent << "InteractiveShadows: " << this->InteractiveShadows << "\n";
+  os << indent << "ReplicateGeometry: " << this->ReplicateGeometry << "\n";
+  os << indent << "TracedFrameCount: " << this->TracedFrameCount << "\n";
+  os << indent << "LastRenderTime: " << this->LastRenderTime << "\n";
+  os << indent << "LastImageReduction: " << this->LastImageReduction << "\n";
+  os << indent << "LastImageSplit: " << this->LastImageSplit[0] << " " << this->LastImageSplit[1]
+     << "\n";
+  os << indent << "WhittedPass:\n";
+  this->WhittedPass->PrintSelf(os, indent.GetNextIndent());
+}

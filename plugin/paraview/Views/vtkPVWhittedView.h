@@ -1,0 +1,210 @@
+/**
+ * @class   vtkPVWhittedView
+ * @brief   ParaView render view that draws through vtkWhittedPass ("Whitted Ray Trace" in the GUI)
+ *
+ * A vtkPVRenderView whose renderer runs vtkWhittedPass instead of OpenGL rasterisation. Everything
+ * a render view does (background, camera, light kit and lights panel, orientation axes,
+ * annotations, 2D actors, screenshots, client/server and IceT compositing) keeps working: the pass
+ * sits where vtkPVSynchronizedRenderer puts a render pass, i.e. inside IceT's draw callback when
+ * compositing.
+ *
+ * What the view adds to a plain render view:
+ * - The pass's settings (MaxDepth, SamplesPerPixel, ...), each forwarded in one line.
+ * - Interactive frames: while the camera is dragged the pass traces 1 sample per pixel, with at
+ * most InteractiveMaxDepth bounces, and (when the pass supports it) at a reduced resolution picked
+ * from the measured cost of earlier frames so that a frame takes about InteractiveFrameTime. The
+ * full-quality frame follows when interaction stops (ParaView's still render).
+ * - No level-of-detail geometry: ray tracing cost grows with log(triangles), so ParaView's
+ * decimated LOD would save little and cost a scene conversion and a BVH build on every switch. The
+ * LOD threshold is pinned to "never" and the full geometry (converted once, cached by the pass) is
+ * traced.
+ * - Parallel (mpirun pvbatch / pvserver): with ReplicateGeometry on (default) every
+ * representation's geometry is delivered to every rank, so shadows and reflections see the whole
+ * scene; each rank traces an interleaved share of the pixels (vtkWhittedPass::SetImageSplit) and
+ * IceT's depth or ordered-blend compositing assembles the frame. With a pass that cannot split the
+ * image, rank 0 traces the whole image and the other ranks draw nothing (correct, no speed-up).
+ * The memory cost is one full copy of the rendered geometry per rank (see README).
+ * - Progress: the pass's ProgressEvent is forwarded to ParaView's progress handler, so long still
+ * frames move the GUI's progress bar (and are reported to a remote client).
+ * - No work where no geometry is: a process that renders no geometry for this frame (the client
+ * while a server renders) runs ParaView's default pass instead of the tracer.
+ * - The view's background is what reflected and refracted rays see, also where ParaView composites
+ * on black (vtkPVWhittedPass); FXAA is off (see SetUseFXAA).
+ *
+ * @sa vtkWhittedPass vtkWhittedGeometryRepresentation vtkPVRenderView
+ */
+
+#ifndef vtkPVWhittedView_h
+#define vtkPVWhittedView_h
+
+#include "WhittedParaViewModule.h" // for export macro
+#include "vtkNew.h"                // for vtkNew
+#include "vtkPVRenderView.h"
+#include "vtkSmartPointer.h" // for vtkSmartPointer
+
+#include <string> // for std::string
+
+class vtkAlgorithm;
+class vtkPVWhittedPass;
+class vtkRenderPass;
+class vtkWhittedPass;
+
+class WHITTEDPARAVIEW_EXPORT vtkPVWhittedView : public vtkPVRenderView
+{
+public:
+  static vtkPVWhittedView* New();
+  vtkTypeMacro(vtkPVWhittedView, vtkPVRenderView);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * Settings of the pass for full-quality (still) frames; see vtkWhittedPass for their meaning and
+   * defaults (MaxDepth 5, SamplesPerPixel 1, AdaptiveSampling off, Shadows/Reflections/Refractions
+   * on, ContributionThreshold 1/255, NumberOfThreads 0 = all cores, Fresnel off). Shadows and
+   * SamplesPerPixel replace the OSPRay settings of the same name of a plain render view.
+   */
+  void SetMaxDepth(int value);
+  int GetMaxDepth();
+  void SetSamplesPerPixel(int value);
+  int GetSamplesPerPixel();
+  void SetAdaptiveSampling(bool value);
+  bool GetAdaptiveSampling();
+  void SetShadows(bool value);
+  bool GetShadows();
+  void SetReflections(bool value);
+  bool GetReflections();
+  void SetRefractions(bool value);
+  bool GetRefractions();
+  void SetContributionThreshold(double value);
+  double GetContributionThreshold();
+  void SetNumberOfThreads(int value);
+  int GetNumberOfThreads();
+  void SetFresnel(bool value);
+  bool GetFresnel();
+  ///@}
+
+  ///@{
+  /**
+   * Interactive frames (camera being dragged). InteractiveFrameTime: wall-clock seconds an
+   * interactive frame should take; the image is traced at 1/f of the resolution with f
+   * = 1..MaximumImageReduction chosen from the measured cost of earlier frames (only if the pass
+   * supports reduced resolution). Default 0.1 s, at most 8x. InteractiveMaxDepth: cap on bounces
+   * while interacting, default 1. InteractiveShadows: trace shadow rays while interacting (if
+   * Shadows is on), default on. Interactive frames always use 1 sample per pixel and no adaptive
+   * sampling.
+   */
+  vtkSetClampMacro(InteractiveFrameTime, double, 0.005, 10.0);
+  vtkGetMacro(InteractiveFrameTime, double);
+  vtkSetClampMacro(MaximumImageReduction, int, 1, 16);
+  vtkGetMacro(MaximumImageReduction, int);
+  vtkSetClampMacro(InteractiveMaxDepth, int, 0, 64);
+  vtkGetMacro(InteractiveMaxDepth, int);
+  vtkSetMacro(InteractiveShadows, bool);
+  vtkGetMacro(InteractiveShadows, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Parallel rendering: deliver every representation's geometry to every rank so that each rank
+   * traces the full scene (correct shadows, reflections and refractions across ranks) and split the
+   * image between ranks. Off: each rank traces only its own data, like a raster view (secondary
+   * rays miss the other ranks' geometry). Has no effect with a single rendering process. Default
+   * on.
+   */
+  void SetReplicateGeometry(bool value);
+  vtkGetMacro(ReplicateGeometry, bool);
+  ///@}
+
+  /**
+   * Level of detail is never used by this view (see class documentation); the threshold is ignored.
+   */
+  void SetLODRenderingThreshold(double) override;
+
+  /**
+   * FXAA is never used by this view: ParaView applies it after compositing in parallel and
+   * client/server modes but not in builtin mode (a renderer with a custom pass skips it), so images
+   * would depend on the mode; the ray tracer anti-aliases with SamplesPerPixel instead.
+   */
+  void SetUseFXAA(bool) override;
+
+  ///@{
+  /**
+   * Diagnostics of this process (information-only properties; a client reports its own values):
+   * frames the tracer ran on this process, the last frame's wall time in seconds (whole
+   * render window), the reduction factor of the last interactive frame, the image split of the last
+   * frame (stride, offset), what the last frame converted and rebuilt (geometries converted to the
+   * tracer's scene, object BVHs built; both 0 when nothing changed) and the pass's report of its
+   * last frame.
+   */
+  vtkGetMacro(TracedFrameCount, int);
+  int GetLastGeometriesConverted();
+  int GetLastObjectsRebuilt();
+  vtkGetMacro(LastRenderTime, double);
+  vtkGetMacro(LastImageReduction, int);
+  vtkGetVector2Macro(LastImageSplit, int);
+  const char* GetLastFrameReport();
+  ///@}
+
+  /**
+   * The pass (for C++ callers and tests).
+   */
+  vtkWhittedPass* GetWhittedPass();
+
+  /**
+   * Overridden to replicate geometry to all ranks when rendering in parallel (see
+   * ReplicateGeometry).
+   */
+  void Update() override;
+
+protected:
+  vtkPVWhittedView();
+  ~vtkPVWhittedView() override;
+
+  /**
+   * Configures the pass for the frame (interactive quality, image split between ranks), renders,
+   * and records timings for the next interactive frame.
+   */
+  void Render(bool interactive, bool skip_rendering) override;
+
+  /**
+   * Overridden to hand the view's background to the pass as the environment of secondary rays
+   * (ParaView replaces the renderer's background by black while compositing).
+   */
+  void UpdateBackground(vtkRenderer* renderer = nullptr) override;
+
+  vtkNew<vtkPVWhittedPass> WhittedPass;
+  vtkNew<vtkAlgorithm> ProgressReporter;
+
+  double InteractiveFrameTime = 0.1;
+  int MaximumImageReduction = 8;
+  int InteractiveMaxDepth = 1;
+  bool InteractiveShadows = true;
+  bool ReplicateGeometry = true;
+
+  // Passes: one that draws nothing (ranks without a share of the image), and the one installed in
+  // the synchronized renderers (the tracer, ParaView's default pass, or the idle pass)
+  vtkSmartPointer<vtkRenderPass> IdlePass;
+  vtkRenderPass* InstalledPass = nullptr;
+  // Decision of the last Update(), identical on all processes
+  bool GeometryReplicated = false;
+  // Estimated trace seconds of an interactive frame at full size, and seconds of the last frame
+  // that do not scale with the traced pixels (compositing, OpenGL stages, IceT)
+  double InteractiveFullFrameCost = 0;
+  double LastFixedTime = 0;
+  bool LastFrameInteractive = false;
+  int TracedFrameCount = 0;
+  double LastRenderTime = 0;
+  int LastImageReduction = 1;
+  int LastImageSplit[2] = { 1, 0 };
+  std::string LastFrameReport;
+
+private:
+  vtkPVWhittedView(const vtkPVWhittedView&) = delete;
+  void operator=(const vtkPVWhittedView&) = delete;
+
+  int ChooseImageReduction();
+  void ForwardProgress(vtkObject*, unsigned long, void* callData);
+  void CountFrame(vtkObject*, unsigned long, void*);
+};
+
+#endif

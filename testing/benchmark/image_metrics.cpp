@@ -1,0 +1,95 @@
+#include "image_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace whitted::bench {
+
+namespace {
+
+float clamp01(float x) {
+  return std::isfinite(x) ? std::clamp(x, 0.0f, 1.0f) : 0.0f;
+}
+
+/// Separable Gaussian blur (11 taps, sigma 1.5) keeping only the fully covered ("valid") region.
+std::vector<double> blurValid(const std::vector<double>& in, int w, int h, int& ow, int& oh) {
+  const int r = 5;
+  double k[2 * r + 1], sum = 0.0;
+  for (int i = -r; i <= r; ++i) sum += k[i + r] = std::exp(-0.5 * i * i / (1.5 * 1.5));
+  for (double& v : k) v /= sum;
+  ow = w - 2 * r;
+  oh = h - 2 * r;
+  if (ow <= 0 || oh <= 0) return {};
+  std::vector<double> tmp(std::size_t(ow) * h), out(std::size_t(ow) * oh);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < ow; ++x) {
+      double s = 0.0;
+      for (int i = 0; i <= 2 * r; ++i) s += k[i] * in[std::size_t(y) * w + x + i];
+      tmp[std::size_t(y) * ow + x] = s;
+    }
+  for (int y = 0; y < oh; ++y)
+    for (int x = 0; x < ow; ++x) {
+      double s = 0.0;
+      for (int i = 0; i <= 2 * r; ++i) s += k[i] * tmp[std::size_t(y + i) * ow + x];
+      out[std::size_t(y) * ow + x] = s;
+    }
+  return out;
+}
+
+double ssimChannel(const std::vector<double>& a, const std::vector<double>& b, int w, int h) {
+  const double c1 = 0.01 * 0.01, c2 = 0.03 * 0.03;  // dynamic range 1
+  std::size_t n = a.size();
+  std::vector<double> aa(n), bb(n), ab(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    aa[i] = a[i] * a[i];
+    bb[i] = b[i] * b[i];
+    ab[i] = a[i] * b[i];
+  }
+  int ow, oh;
+  auto ma = blurValid(a, w, h, ow, oh), mb = blurValid(b, w, h, ow, oh);
+  auto saa = blurValid(aa, w, h, ow, oh), sbb = blurValid(bb, w, h, ow, oh), sab = blurValid(ab, w, h, ow, oh);
+  if (ma.empty()) return 1.0;
+  double sum = 0.0;
+  for (std::size_t i = 0; i < ma.size(); ++i) {
+    double va = saa[i] - ma[i] * ma[i], vb = sbb[i] - mb[i] * mb[i], cov = sab[i] - ma[i] * mb[i];
+    sum += ((2.0 * ma[i] * mb[i] + c1) * (2.0 * cov + c2)) / ((ma[i] * ma[i] + mb[i] * mb[i] + c1) * (va + vb + c2));
+  }
+  return sum / double(ma.size());
+}
+
+}  // namespace
+
+ImageError compareImages(const FrameBuffer& img, const FrameBuffer& ref) {
+  ImageError e;
+  std::size_t n = std::min(img.color.size(), ref.color.size());
+  if (n == 0) return e;
+  double sum2 = 0.0, mc2 = 0.0, mcMax = 0.0;
+  std::vector<double> ca[3], cb[3];
+  for (int c = 0; c < 3; ++c) {
+    ca[c].resize(n);
+    cb[c].resize(n);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    double m = 0.0;
+    for (int c = 0; c < 3; ++c) {
+      double a = clamp01(img.color[i][c]), b = clamp01(ref.color[i][c]);
+      ca[c][i] = a;
+      cb[c][i] = b;
+      sum2 += (a - b) * (a - b);
+      m = std::max(m, std::abs(a - b));
+    }
+    mc2 += m * m;
+    mcMax = std::max(mcMax, m);
+  }
+  e.rmse = std::sqrt(sum2 / (3.0 * double(n)));
+  e.psnr = e.rmse > 1e-5 ? 20.0 * std::log10(1.0 / e.rmse) : 100.0;
+  e.maxChannelRms = std::sqrt(mc2 / double(n));
+  e.maxChannelMax = mcMax;
+  double s = 0.0;
+  for (int c = 0; c < 3; ++c) s += ssimChannel(ca[c], cb[c], img.width, img.height);
+  e.ssim = s / 3.0;
+  return e;
+}
+
+}  // namespace whitted::bench

@@ -1,0 +1,22 @@
+// Error of an image against a reference, on linear RGB clamped to [0,1] (what an 8-bit framebuffer can show).
+#pragma once
+
+#include "renderer.h"
+
+namespace whitted::bench {
+
+struct ImageError {
+  double rmse = 0.0;  ///< Root mean square over pixels and the three channels.
+  double psnr = 0.0;  ///< 20 log10(1 / rmse) in dB (capped at 100 for identical images).
+  double ssim = 1.0;  ///< Mean SSIM over RGB channels (Gaussian window sigma 1.5, 11 x 11; Wang et al. 2004).
+  /// The quantity FrameStats::errorEstimateRms bounds: per pixel the largest channel difference, then RMS (and
+  /// max) over pixels. Compared against a reference traced with the same samples, it isolates the radiance left
+  /// out by the depth cap and the contribution threshold.
+  double maxChannelRms = 0.0;
+  double maxChannelMax = 0.0;
+};
+
+/// Errors of img against ref (same size).
+ImageError compareImages(const FrameBuffer& img, const FrameBuffer& ref);
+
+}  // namespace whitted::bench

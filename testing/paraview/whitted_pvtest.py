@@ -1,0 +1,173 @@
+"""Shared helpers of the ParaView plugin tests: the test scene, image comparison, plugin loading.
+
+Imported by the test scripts, which run under pvbatch, /usr/bin/python3 or mpirun pvbatch with
+PYTHONPATH=<python3-paraview prefix>/usr/lib/python3/dist-packages (see README).
+"""
+import os
+import sys
+
+# Image size of every regression image: small, so the suite stays fast on 2 cores.
+SIZE = [400, 300]
+
+
+def load_plugin(plugin):
+    """Loads the plugin on the client and, when connected to a server, on the server."""
+    from paraview import servermanager as sm
+    from paraview.simple import LoadPlugin
+
+    LoadPlugin(plugin, remote=False, ns=globals())
+    if sm.ActiveConnection.IsRemote():
+        LoadPlugin(plugin, remote=True, ns=globals())
+
+
+def make_view(size=SIZE):
+    """A Whitted view with a fixed camera-independent look: no orientation axes, solid background, no light
+    kit, one directional scene light (so shadows are crisp and the image does not depend on ParaView's
+    light kit defaults)."""
+    from paraview.simple import AddLight, CreateView
+
+    view = CreateView("WhittedRayTraceView")
+    view.ViewSize = list(size)
+    view.OrientationAxesVisibility = 0
+    view.UseColorPaletteForBackground = 0
+    view.BackgroundColorMode = "Single Color"
+    view.Background = [0.32, 0.34, 0.43]
+    view.UseLight = 0
+    light = AddLight(view=view)
+    light.Coords = "Scene"
+    light.Type = "Directional"
+    light.Position = [-2.0, 5.0, 3.0]
+    light.FocalPoint = [0.0, 0.0, 0.0]
+    light.Intensity = 1.0
+    view.MaxDepth = 5
+    return view
+
+
+def build_scene(view, opacity=1.0):
+    """Ground plane, a mirror sphere, a glass sphere and a matte box: shadows, a reflection and a refraction.
+    With opacity < 1 the matte box is translucent (ParaView then composites with ordered blending)."""
+    from paraview.simple import Box, Plane, Show, Sphere
+
+    ground = Plane(Origin=[-3.0, -1.0, 3.0], Point1=[3.0, -1.0, 3.0], Point2=[-3.0, -1.0, -3.0],
+                   XResolution=24, YResolution=24)
+    mirror = Sphere(Center=[-0.9, -0.1, 0.0], Radius=0.9, ThetaResolution=64, PhiResolution=32)
+    glass = Sphere(Center=[0.9, -0.45, 1.0], Radius=0.55, ThetaResolution=64, PhiResolution=32)
+    box = Box(Center=[1.2, -0.5, -1.0], XLength=1.0, YLength=1.0, ZLength=1.0)
+
+    shown = {}
+    for name, src, color in (("ground", ground, [0.85, 0.85, 0.8]), ("mirror", mirror, [0.9, 0.9, 0.95]),
+                             ("glass", glass, [0.06, 0.08, 0.09]), ("box", box, [0.9, 0.35, 0.2])):
+        d = Show(src, view)
+        d.Representation = "Whitted Surface"
+        d.DiffuseColor = color
+        d.AmbientColor = color
+        d.Specular = 0.3
+        d.SpecularPower = 30.0
+        shown[name] = d
+    shown["mirror"].Reflectance = 0.7
+    shown["glass"].Transmittance = 0.85
+    shown["glass"].Reflectance = 0.1
+    shown["glass"].Specular = 0.8
+    shown["glass"].SpecularPower = 80.0
+    shown["glass"].IndexOfRefraction = 1.5
+    shown["box"].Opacity = opacity
+
+    set_camera(view)
+    return shown
+
+
+def add_view_features(view, shown):
+    """The standard render-view features on top of the scene: gradient background, light kit (with the scene
+    light), orientation axes, a text annotation, scalar colouring with its colour legend, parallel
+    projection."""
+    from paraview.simple import ColorBy, GetColorTransferFunction, GetScalarBar, Show, Text
+
+    view.BackgroundColorMode = "Gradient"
+    view.Background2 = [0.05, 0.05, 0.2]
+    view.UseLight = 1
+    view.KeyLightIntensity = 0.35
+    view.AdditionalLights[0].Intensity = 0.5
+    view.OrientationAxesVisibility = 1
+    text = Text(Text="Whitted Ray Trace")
+    label = Show(text, view)
+    label.WindowLocation = "Upper Center"
+    label.FontSize = 14
+    box = shown["box"]
+    ColorBy(box, ("POINTS", "Normals", "X"))
+    box.RescaleTransferFunctionToDataRange(True)
+    lut = GetColorTransferFunction("Normals")
+    lut.ApplyPreset("Cool to Warm", True)
+    box.SetScalarBarVisibility(view, True)
+    bar = GetScalarBar(lut, view)
+    bar.ScalarBarLength = 0.3
+    bar.TitleFontSize = 10
+    bar.LabelFontSize = 9
+    view.CameraParallelProjection = 1
+    view.CameraParallelScale = 2.2
+
+
+def set_camera(view):
+    """The test camera (and no automatic camera reset on the first render)."""
+    import paraview.simple
+
+    paraview.simple._DisableFirstRenderCameraReset()
+    view.CameraPosition = [0.8, 3.6, 8.2]
+    view.CameraFocalPoint = [0.1, -0.45, 0.1]
+    view.CameraViewUp = [0.0, 1.0, 0.0]
+    view.CameraViewAngle = 30.0
+    view.CameraParallelProjection = 0
+
+
+def compare_image(image, baseline, tmpdir, max_bad_fraction=0.002, tolerance=24):
+    """Compares two PNG files pixel by pixel: fails when more than max_bad_fraction of the pixels differ by
+    more than tolerance (0-255, any channel). The tracer is deterministic, so builtin, client/server and MPI
+    renders of one scene agree to within rounding; the tolerance absorbs compositing round-off only.
+    Returns (ok, fraction of differing pixels). A missing baseline fails and leaves the image in place.
+    On failure a difference image is written to tmpdir."""
+    import numpy as np
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkIOImage import vtkPNGReader, vtkPNGWriter
+
+    if not os.path.exists(baseline):
+        print("ERROR: baseline %s missing; the test image is %s" % (baseline, image))
+        return False, 1.0
+
+    def read(path):
+        r = vtkPNGReader()
+        r.SetFileName(path)
+        r.Update()
+        img = r.GetOutput()
+        dims = img.GetDimensions()
+        arr = vtk_to_numpy(img.GetPointData().GetScalars()).reshape(dims[1], dims[0], -1)
+        return arr[:, :, :3].astype(np.int32)
+
+    a, b = read(image), read(baseline)
+    if a.shape != b.shape:
+        print("image %s is %s, baseline %s is %s" % (image, a.shape, baseline, b.shape))
+        return False, 1.0
+    delta = np.abs(a - b).max(axis=2)
+    bad = float((delta > tolerance).mean())
+    ok = bad <= max_bad_fraction
+    print("image %s vs %s: %.4f%% of pixels differ by more than %d (limit %.3f%%), max difference %d -> %s" %
+          (image, baseline, 100 * bad, tolerance, 100 * max_bad_fraction, delta.max(), "ok" if ok else "FAILED"))
+    if not ok:
+        from vtkmodules.vtkCommonDataModel import vtkImageData
+        from vtkmodules.util.numpy_support import numpy_to_vtk
+
+        os.makedirs(tmpdir, exist_ok=True)
+        diff = vtkImageData()
+        diff.SetDimensions(a.shape[1], a.shape[0], 1)
+        scaled = np.clip(delta * 4, 0, 255).astype(np.uint8).reshape(-1)
+        diff.GetPointData().SetScalars(numpy_to_vtk(scaled))
+        w = vtkPNGWriter()
+        w.SetInputData(diff)
+        w.SetFileName(os.path.join(tmpdir, os.path.basename(image).replace(".png", ".diff.png")))
+        w.Write()
+    return ok, bad
+
+
+def fail(msg):
+    """Reports a failure and exits 1 (os._exit: pvbatch can crash while finalizing after sys.exit)."""
+    print("FAILED: " + msg)
+    sys.stdout.flush()
+    os._exit(1)

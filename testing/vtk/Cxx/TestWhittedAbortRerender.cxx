@@ -1,0 +1,210 @@
+// Abort mid-frame with all threads, then render again: the second frame must be the uninterrupted
+// image, bit for bit (8-bit pixels and the tracer's float colour and depth), and nothing has to be
+// converted or rebuilt again (the abort happens while tracing; the caches stay valid).
+//
+// Two ways to abort, each with NumberOfThreads 0 (all cores) and 4 (more threads than cores):
+//  - the pass's ProgressEvent observer sets the window's AbortRender once a given fraction of
+//    the tiles is done (the pass calls CheckAbortStatus between tiles, which returns it);
+//  - the window's AbortCheckEvent observer sets AbortRender (VTK runs that check at most 5 times a
+//    second, so the first check comes after the first tile).
+// The reference is rendered by a separate pass with one thread (the tracer is deterministic for
+// any thread count). A camera move before an aborted frame is covered too.
+#include "WhittedTestUtilities.h"
+
+#include "vtkCallbackCommand.h"
+#include "vtkCamera.h"
+#include "vtkCommand.h"
+#include "vtkLight.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <thread>
+#include <vector>
+
+namespace
+{
+struct Frame
+{
+  std::vector<unsigned char> Pixels;
+  std::vector<float> Color, Depth;
+};
+
+Frame Grab(vtkRenderWindow* win, vtkWhittedPass* pass)
+{
+  Frame f;
+  f.Pixels = whittedtest::GrabPixels(win);
+  vtkNew<vtkFloatArray> rgba, depth;
+  pass->GetLastFrame(rgba, depth);
+  f.Color.assign(rgba->GetPointer(0), rgba->GetPointer(0) + rgba->GetNumberOfValues());
+  f.Depth.assign(depth->GetPointer(0), depth->GetPointer(0) + depth->GetNumberOfValues());
+  return f;
+}
+
+bool BitEqual(const std::vector<float>& a, const std::vector<float>& b)
+{
+  return a.size() == b.size() && !a.empty() &&
+    std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+struct AbortState
+{
+  vtkRenderWindow* Window = nullptr;
+  double AbortAtFraction = -1.0; // progress observer: abort once this fraction is done
+  bool AbortAtCheck = false;     // abort-check observer: abort at the next check
+  double LastFraction = 0.0;
+  int Checks = 0;
+};
+
+void OnProgress(vtkObject*, unsigned long, void* clientData, void* callData)
+{
+  auto* st = static_cast<AbortState*>(clientData);
+  st->LastFraction = *static_cast<double*>(callData);
+  if (st->AbortAtFraction >= 0.0 && st->LastFraction >= st->AbortAtFraction)
+  {
+    st->Window->SetAbortRender(1);
+  }
+}
+
+void OnAbortCheck(vtkObject* caller, unsigned long, void* clientData, void*)
+{
+  auto* st = static_cast<AbortState*>(clientData);
+  ++st->Checks;
+  if (st->AbortAtCheck)
+  {
+    static_cast<vtkRenderWindow*>(caller)->SetAbortRender(1);
+  }
+}
+}
+
+int TestWhittedAbortRerender(int, char*[])
+{
+  using namespace whittedtest;
+  const int w = 320, h = 240;
+  auto win = MakeWindow(w, h);
+  vtkNew<vtkRenderer> ren;
+  win->AddRenderer(ren);
+  ren->AddActor(Floor(4.0, 8));
+  auto mirror = Sphere(0.7, 1.0, -0.5, 1.0, 48);
+  mirror->GetProperty()->SetSpecular(0.5);
+  mirror->GetProperty()->SetSpecularPower(50);
+  SetWhitted(mirror->GetProperty(), 0.7);
+  ren->AddActor(mirror);
+  auto glass = Sphere(-1.0, 0.7, 1.0, 0.7, 48);
+  glass->GetProperty()->SetDiffuse(0.1);
+  SetWhitted(glass->GetProperty(), 0.1, 0.85, 1.5);
+  ren->AddActor(glass);
+  vtkNew<vtkLight> light;
+  light->SetLightTypeToSceneLight();
+  light->SetPositional(true);
+  light->SetPosition(3.0, 6.0, 4.0);
+  light->SetConeAngle(180.0);
+  ren->AddLight(light);
+  ren->SetBackground(0.2, 0.3, 0.5);
+  vtkCamera* cam = ren->GetActiveCamera();
+  cam->SetPosition(0.0, 3.0, 7.0);
+  cam->SetFocalPoint(0.0, 0.6, 0.0);
+  cam->SetViewUp(0.0, 1.0, 0.0);
+  ren->ResetCameraClippingRange();
+
+  // References: one thread, never interrupted, for the two camera positions used below
+  vtkNew<vtkWhittedPass> refPass;
+  refPass->SetNumberOfThreads(1);
+  ren->SetPass(refPass);
+  win->Render();
+  const Frame ref = Grab(win, refPass);
+  // The two camera states are set exactly (rotating back would not give the same bits)
+  double home[3], moved[3], range[2], movedRange[2];
+  cam->GetPosition(home);
+  cam->GetClippingRange(range);
+  cam->Azimuth(20.0);
+  ren->ResetCameraClippingRange();
+  cam->GetPosition(moved);
+  cam->GetClippingRange(movedRange);
+  win->Render();
+  const Frame refMoved = Grab(win, refPass);
+  cam->SetPosition(home);
+  cam->SetClippingRange(range);
+  bool ok =
+    !refPass->GetLastFrameAborted() && refPass->GetLastPrimaryRays() == vtkTypeUInt64(w * h);
+
+  AbortState st;
+  st.Window = win;
+  vtkNew<vtkCallbackCommand> checkCb;
+  checkCb->SetCallback(OnAbortCheck);
+  checkCb->SetClientData(&st);
+  win->AddObserver(vtkCommand::AbortCheckEvent, checkCb);
+
+  for (int threads : { 0, 4 })
+  {
+    for (int mode = 0; mode < 3; ++mode)
+    {
+      // mode 0: progress observer aborts at 40 %; 1: abort-check observer aborts at its first
+      // check; 2: camera moved, then progress observer aborts at 60 %
+      vtkNew<vtkWhittedPass> pass;
+      pass->SetNumberOfThreads(threads);
+      vtkNew<vtkCallbackCommand> progressCb;
+      progressCb->SetCallback(OnProgress);
+      progressCb->SetClientData(&st);
+      pass->AddObserver(vtkCommand::ProgressEvent, progressCb);
+      ren->SetPass(pass);
+      const Frame* expected = &ref;
+      if (mode == 2)
+      {
+        win->Render(); // warm caches at the first camera, then move
+        cam->SetPosition(moved);
+        cam->SetClippingRange(movedRange);
+        expected = &refMoved;
+      }
+
+      st.AbortAtFraction = mode == 0 ? 0.4 : (mode == 2 ? 0.6 : -1.0);
+      st.AbortAtCheck = mode == 1;
+      st.Checks = 0;
+      if (mode == 1)
+      {
+        std::this_thread::sleep_for(
+          std::chrono::milliseconds(250)); // let the throttle allow a check
+      }
+      win->Render();
+      const bool aborted = pass->GetLastFrameAborted();
+      const vtkTypeUInt64 partial = pass->GetLastPrimaryRays();
+      const double fraction = st.LastFraction;
+      const Frame cut = Grab(win, pass);
+      const int cutDiff = DifferingPixels(expected->Pixels, cut.Pixels, 0);
+
+      st.AbortAtFraction = -1.0;
+      st.AbortAtCheck = false;
+      win->Render();
+      const Frame again = Grab(win, pass);
+      const int diff = DifferingPixels(expected->Pixels, again.Pixels, 0);
+      const bool colorSame = BitEqual(expected->Color, again.Color);
+      const bool depthSame = BitEqual(expected->Depth, again.Depth);
+      std::printf("[abort] threads %d, mode %d: aborted %d at %.1f%% of the tiles (%llu of %d "
+                  "primary rays, %d pixels differ); re-render: aborted %d, %d pixels differ, "
+                  "float colour %s, depth %s, %d geometries converted, %d BVHs rebuilt\n",
+        threads, mode, int(aborted), 100.0 * fraction, static_cast<unsigned long long>(partial),
+        w * h, cutDiff, int(pass->GetLastFrameAborted()), diff,
+        colorSame ? "bit-identical" : "DIFFERENT", depthSame ? "bit-identical" : "DIFFERENT",
+        pass->GetLastNumberOfGeometriesConverted(), pass->GetLastNumberOfObjectsRebuilt());
+      const bool caseOk = aborted && partial > 0 && partial < vtkTypeUInt64(w * h) && cutDiff > 0 &&
+        !pass->GetLastFrameAborted() && pass->GetLastPrimaryRays() == vtkTypeUInt64(w * h) &&
+        diff == 0 && colorSame && depthSame && pass->GetLastNumberOfGeometriesConverted() == 0 &&
+        pass->GetLastNumberOfObjectsRebuilt() == 0;
+      if (!caseOk)
+      {
+        std::printf("[abort] threads %d, mode %d: FAILED\n", threads, mode);
+      }
+      ok &= caseOk;
+      if (mode == 2)
+      {
+        cam->SetPosition(home);
+        cam->SetClippingRange(range);
+      }
+      pass->RemoveObserver(progressCb);
+    }
+  }
+  win->RemoveObserver(checkCb);
+  win->SetAbortRender(0);
+  return ok ? EXIT_SUCCESS : EXIT_FAILURE;
+}
