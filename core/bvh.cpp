@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <exception>
 #include <numeric>
 #include <thread>
 
@@ -137,9 +138,23 @@ struct Builder {
     if (count >= kParallelMin && depth <= kParallelDepth) {
       std::vector<BvhNode> rightNodes(1);
       Builder rightBuilder{boxes, centroids, opt, rightNodes, idx};
-      std::thread worker([&] { rightBuilder.split(0, mid, end, depth + 1); });
-      split(left, begin, mid, depth + 1);
+      // Exceptions (std::bad_alloc) must not escape a thread or unwind past a joinable one: carry them back
+      std::exception_ptr workerError;
+      std::thread worker([&] {
+        try {
+          rightBuilder.split(0, mid, end, depth + 1);
+        } catch (...) {
+          workerError = std::current_exception();
+        }
+      });
+      try {
+        split(left, begin, mid, depth + 1);
+      } catch (...) {
+        worker.join();
+        throw;
+      }
       worker.join();
+      if (workerError) std::rethrow_exception(workerError);
       splice(left + 1, rightNodes);
       maxDepth = std::max(maxDepth, rightBuilder.maxDepth);
     } else {

@@ -4,6 +4,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <mutex>
 #include <thread>
 
 namespace whitted {
@@ -86,12 +88,22 @@ class FrameJob {
     std::atomic<std::size_t> next{0};
     std::atomic<std::size_t> done{0};
     std::atomic<bool> abortFlag{aborted_};
+    std::mutex errorMutex;
+    std::exception_ptr error;
     auto worker = [&](bool mainThread) {
       for (;;) {
         if (abortFlag.load(std::memory_order_relaxed)) return;
         std::size_t i = next.fetch_add(1);
         if (i >= myTiles_.size()) return;
-        tileFn(int(i));
+        try {
+          tileFn(int(i));
+        } catch (...) {
+          // An exception (std::bad_alloc) stops the frame and is rethrown on the calling thread after the join
+          std::lock_guard<std::mutex> lock(errorMutex);
+          if (!error) error = std::current_exception();
+          abortFlag = true;
+          return;
+        }
         std::size_t d = done.fetch_add(1) + 1;
         if (mainThread) {
           // VTK's abort check and progress must run on the calling (GL) thread
@@ -101,10 +113,17 @@ class FrameJob {
       }
     };
     std::vector<std::thread> pool;
-    for (int t = 1; t < threads && std::size_t(t) < myTiles_.size(); ++t) pool.emplace_back(worker, false);
-    worker(true);
+    try {
+      for (int t = 1; t < threads && std::size_t(t) < myTiles_.size(); ++t) pool.emplace_back(worker, false);
+      worker(true);  // the callbacks may throw too (a VTK observer): caught below after stopping the workers
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(errorMutex);
+      if (!error) error = std::current_exception();
+      abortFlag = true;
+    }
     for (auto& th : pool) th.join();
     aborted_ = abortFlag.load();
+    if (error) std::rethrow_exception(error);
   }
 
   // Sample position inside a pixel: centre for one sample, jittered strata otherwise.

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <stdexcept>
 
 using namespace whitted;
 
@@ -185,4 +186,22 @@ TEST(Image, PngRoundTripHeaderAndCrc) {
   std::fclose(f);
   EXPECT_EQ(sig[1], 'P');
   EXPECT_EQ(sig[2], 'N');
+}
+
+// An exception thrown while tiles are traced on several threads (here: by the progress callback) reaches the
+// caller after all workers have stopped, instead of terminating the process.
+TEST(Renderer, ExceptionInFrameIsRethrownAfterJoin) {
+  Classic c;
+  Camera cam = c.cs.make(1.0, c.scene.bounds());
+  RenderSettings rs;
+  rs.tileSize = 4;
+  rs.threads = 3;
+  rs.progress = [](double f) {
+    if (f > 0.1) throw std::runtime_error("observer failed");
+  };
+  FrameBuffer fb;
+  EXPECT_THROW(render(c.scene, cam, rs, 64, 64, fb), std::runtime_error);
+  rs.progress = nullptr;
+  FrameStats fs = render(c.scene, cam, rs, 64, 64, fb);  // and the next frame is complete
+  EXPECT_EQ(fs.rays.primary, 64u * 64u);
 }
