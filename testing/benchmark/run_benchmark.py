@@ -359,7 +359,6 @@ def section_vtk(ctx):
         if rc != 0:
             ctx.notes.append("VTK %s (MultiSamples %d) failed (exit %d), see logs/" % (mode, msaa, rc))
     ctx.runner.run(ours_cmd, "ours " + scene + " " + size + " again")
-    plot_vtk(ctx, ours_png)
 
 
 def section_scaling(ctx):
@@ -451,11 +450,14 @@ def plot_pov(ctx, ours_png, pov_png, row):
     plt.close(fig)
 
 
-def plot_vtk(ctx, ours_png):
+def plot_vtk(ctx):
     plt = plt_module()
     import matplotlib.image as mpimg
     rows = read_csv(os.path.join(ctx.out, "vtk_opengl.csv"))
     frames = [r for r in read_csv(os.path.join(ctx.out, "frames.csv")) if r["tag"] == "vtk"]
+    if not frames:
+        return
+    ours_png = os.path.join(ctx.out, "vtk_ours_%s.png" % frames[-1]["scene"])
     panels = []
     if frames:
         panels.append((ours_png, "Whitted core, shadows: %.0f ms" % (
@@ -478,7 +480,8 @@ def plot_vtk(ctx, ours_png):
     for x, (p, title) in zip(ax, panels):
         x.imshow(mpimg.imread(p))
         x.set_title(title, fontsize=11)
-    fig.suptitle("%s at %s (median frame time after a camera move)" % (ctx.cfg["vtk_scene"], ctx.cfg["vtk_size"]))
+    fig.suptitle("%s at %dx%d (median frame time after a camera move)" % (
+        frames[-1]["scene"], frames[-1]["width"], frames[-1]["height"]))
     fig.tight_layout(rect=[0, 0, 1, 0.94])
     fig.savefig(os.path.join(ctx.out, "vtk_compare.png"))
     plt.close(fig)
@@ -513,9 +516,10 @@ def plot_rays(ctx, rays):
         plain_log_ticks(ax, "y")
         ax.set_ylabel("Mrays/s (log)")
         ax.set_title("%d thread%s" % (t, "s" if t > 1 else ""))
-    axes[0][0].legend(fontsize=8, ncol=3, loc="upper right")
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    fig.legend(handles, labels, fontsize=9, ncol=6, loc="lower center")
     fig.suptitle("Ray throughput: Whitted (solid) vs Embree 3 (hatched), same rays")
-    fig.tight_layout()
+    fig.tight_layout(rect=[0, 0.07, 1, 1])
     fig.savefig(os.path.join(ctx.out, "rays.png"))
     plt.close(fig)
 
@@ -676,8 +680,10 @@ def error_time_key(err):
 
 def dominated_by(rows, d, key, tol=0.1):
     """Settings clearly better than d: >= tol faster at no more error, or >= tol less error at no more time."""
+    # A cheaper setting must also trace fewer rays: settings that give the same image with the same rays (e.g.
+    # any depth in a scene without mirrors) differ only by timing noise
     return [r for r in rows if r is not d and (
-        (r[key] <= (1 - tol) * d[key] and r["rmse"] <= d["rmse"]) or
+        (r[key] <= (1 - tol) * d[key] and r["rays"] < d["rays"] and r["rmse"] <= d["rmse"]) or
         (r[key] <= d[key] and r["rmse"] <= (1 - tol) * d["rmse"]))]
 
 
@@ -708,7 +714,7 @@ def plot_error(ctx, err):
             for i in front:
                 r = rows[i]
                 lx, ly = math.log10(pts[i][0] * 1e3), math.log10(pts[i][1])
-                if any(abs(lx - px) < 0.06 and abs(ly - py) < 0.08 for px, py in placed):
+                if any(abs(lx - px) < 0.15 and abs(ly - py) < 0.06 for px, py in placed):
                     continue  # too close to a label already drawn
                 placed.append((lx, ly))
                 a.annotate("d%d t%.0f%s" % (r["depth"], r["threshold"] * 255,
@@ -765,7 +771,7 @@ def plot_estimate(ctx, err):
     ax[0].set_title("What the estimate bounds (points above the line: bound holds)")
     ax[1].set_title("Total error (the estimate does not cover sampling)")
     ax[0].legend(fontsize=8, loc="upper left")
-    fig.suptitle("Renderer's error estimate vs measured error (o: fixed sampling, x: adaptive)")
+    fig.suptitle("Renderer's error estimate vs measured error (o: fixed sampling, x: adaptive; zeros drawn at 1e-5)")
     fig.tight_layout(rect=[0, 0, 1, 0.95])
     fig.savefig(os.path.join(ctx.out, "error_estimate.png"))
     plt.close(fig)
@@ -814,6 +820,7 @@ def report(ctx, started, elapsed):
     plot_build(ctx, build)
     plot_scaling(ctx, frames, build)
     plot_update(ctx, upd)
+    plot_vtk(ctx)
     error_plots = plot_error(ctx, err) if err else []
     plot_estimate(ctx, err)
 
@@ -840,6 +847,10 @@ def report(ctx, started, elapsed):
     else:
         L.append("Produced by `%s` on %s in %.0f s; sources: %s.\n" % (
             " ".join(shlex.quote(a) for a in ctx.argv), started, elapsed, ctx.git))
+    if ctx.env:
+        L.append("Versions: whitted_bench built with %s; Embree %s; %s; VTK %s; Linux %s.\n" % (
+            ctx.env.get("compiler", "?"), ctx.env.get("embree", "?"), ctx.env.get("povray", "POV-Ray ?"),
+            ctx.env.get("vtk", "?"), ctx.env.get("kernel", "?")))
     L.append("Machine: %s, %d hardware threads. Other jobs running on the machine are not excluded (load average "
              "above, 1-minute): ours and the anchors are measured alternately in the same run so wall-time ratios "
              "stay comparable, and every comparison is also given in CPU time, which waiting for a core does not "
@@ -1026,8 +1037,13 @@ def report(ctx, started, elapsed):
                 if isinstance(wp[0].get("cpu_seconds_median"), float) else ""])
         L.append(md_table(["renderer", "MultiSamples", "first frame ms", "frame ms (wall / CPU)",
                            "speed ratio Whitted/this (wall / CPU)", "GL renderer / status / pass phases"], tab))
-        L.append("\nvtkWhittedPass rows are filled in once `from whitted import vtkWhittedPass` works (pass "
-                 "`--whitted-pythonpath DIR` or build the VTK module in --build-dir).\n")
+        if not wp:
+            L.append("\nThe vtkWhittedPass row is filled in once `from whitted import vtkWhittedPass` works (pass "
+                     "`--whitted-pythonpath DIR` or build the VTK module in --build-dir).\n")
+        else:
+            L.append("\nvtkWhittedPass = the whole VTK frame through the pass (scene conversion, tracing, compositing "
+                     "into the GL framebuffer), same window setup as the OpenGL rows; its phases are the pass's own "
+                     "timers.\n")
         L.append(commands_block(ctx, "vtk"))
         if os.path.exists(os.path.join(out, "vtk_compare.png")):
             L.append("![vtk](vtk_compare.png)\n")
@@ -1075,7 +1091,7 @@ def report(ctx, started, elapsed):
         L.append("Cost is measured as %s. The machine this report was produced on was shared (see load average): "
                  "wall times of millisecond renders scatter by 2x there, CPU time and the ray count (`rays` in "
                  "the CSV, machine-independent) do not. 'Clearly better' = at least 10%% less cost at no more "
-                 "RMSE, or at least 10%% less RMSE at no more cost.\n" % (
+                 "RMSE (and fewer rays traced), or at least 10%% less RMSE at no more cost.\n" % (
                      "the CPU time of the render (all threads)" if tkey.startswith("cpu") else "wall time"))
         tab = []
         desc = lambda r: "spp %d%s d%d t%.0f" % (r["spp"], "a" if r["adaptive"] else "", r["depth"], r["threshold"] * 255)
@@ -1198,12 +1214,29 @@ def main():
     ctx.bench = find_bench(args, ctx.runner) if not args.report_only else ""
     ctx.data = ensure_meshes(ctx.cfg["meshes"], cache, ctx.runner, ctx.notes) if not args.report_only else \
         ",".join([DATA, cache])
-    ctx.embree_version = "3"
+    env_path = os.path.join(ctx.out, "environment.json")
     if ctx.bench:
         _, text, _ = ctx.runner.run([ctx.bench, "info", "--scene", "classic"], "info")
-        if not json.loads(text).get("embree"):
+        info = json.loads(text)
+        if not info.get("embree"):
             ctx.notes.append("whitted_bench was built without Embree: no Embree anchor (install libembree-dev)")
-        ctx.embree_version = "3.13" if json.loads(text).get("embree") else "(not built)"
+        env = dict(cpu=ctx.cpu, threads=ctx.threads, compiler=info.get("compiler", ""),
+                   embree=info.get("embreeVersion") or "not built", kernel=platform.release())
+        try:
+            p = subprocess.run(["povray", "--version"], capture_output=True, text=True, timeout=30)
+            env["povray"] = next((l.strip() for l in (p.stdout + p.stderr).splitlines() if l.startswith("POV-Ray")), "")
+        except (OSError, subprocess.TimeoutExpired):
+            env["povray"] = "not found"
+        try:
+            env["vtk"] = subprocess.run([VTK_PYTHON, "-c", "import vtkmodules.vtkCommonCore as c; "
+                                         "print(c.vtkVersion.GetVTKVersion())"], capture_output=True, text=True,
+                                        timeout=60).stdout.strip() or "not found"
+        except (OSError, subprocess.TimeoutExpired):
+            env["vtk"] = "not found"
+        with open(env_path, "w") as f:
+            json.dump(env, f, indent=1)
+    ctx.env = json.load(open(env_path)) if os.path.exists(env_path) else {}
+    ctx.embree_version = ctx.env.get("embree", "3")
 
     sections = [s for s in args.sections.split(",") if s]
     if not args.report_only:

@@ -101,8 +101,23 @@ int cmdInfo(const Args& a) {
       "\"specularPower\": %g},\n",
       jsonColor(m.diffuseColor).c_str(), m.ambient, m.diffuse, m.specular, m.specularPower);
   Bounds3 b = bs.scene.bounds();
-  std::printf("  \"bounds\": [%s, %s],\n  \"hardwareThreads\": %d,\n  \"embree\": %s\n}\n", jsonVec(b.lo).c_str(),
-              jsonVec(b.hi).c_str(), allThreads(), kHaveEmbree ? "true" : "false");
+#ifdef WHITTED_HAVE_EMBREE
+  const char* embreeVersion = RTC_VERSION_STRING;
+#else
+  const char* embreeVersion = "";
+#endif
+  std::printf(
+      "  \"bounds\": [%s, %s],\n  \"hardwareThreads\": %d,\n  \"embree\": %s,\n  \"embreeVersion\": \"%s\",\n"
+      "  \"compiler\": \"%s\"\n}\n",
+      jsonVec(b.lo).c_str(), jsonVec(b.hi).c_str(), allThreads(), kHaveEmbree ? "true" : "false", embreeVersion,
+#if defined(__clang__)
+      "clang " __clang_version__
+#elif defined(__GNUC__)
+      "gcc " __VERSION__
+#else
+      "unknown"
+#endif
+  );
   return 0;
 }
 
@@ -435,6 +450,7 @@ int cmdBuild(const Args& a) {
   if (!loadScene(a, bs)) return 2;
   int reps = a.integer("reps", 3), warmup = a.integer("warmup", 1);
   bool useEmbree = kHaveEmbree && !a.has("no-embree");
+  (void)useEmbree;  // used only with WHITTED_HAVE_EMBREE
   int tw = 512, th = 512;
   a.size("trace-size", tw, th);
   CsvWriter csv(a.str("csv"),
@@ -615,7 +631,8 @@ int cmdFrame(const Args& a) {
                                "mrays",
                                "error_estimate_rms",
                                "primitives",
-                               "cpu_seconds_median"});
+                               "cpu_seconds_median",
+                               "pixels_supersampled"});
   SceneStats st = bs.scene.stats();
   std::size_t prims = st.triangles + st.spheres + st.capsules;
   for (const std::string& sz : a.list("sizes", "800x600")) {
@@ -654,12 +671,17 @@ int cmdFrame(const Args& a) {
                fmt(fs.rays.traced() / t.median * 1e-6),
                fmt(fs.errorEstimateRms),
                fmt(prims),
-               fmt(tc.median)});
+               fmt(tc.median),
+               fmt(fs.pixelsSupersampled)});
       std::printf(
           "%-10s %-12s %4dx%-4d %d thr: trace %9.2f ms (min %.2f, max %.2f), cpu %.2f ms, commit %.1f ms, "
-          "%.2f Mrays/s\n",
+          "%.2f Mrays/s%s\n",
           tag.c_str(), bs.name.c_str(), w, h, threads, t.median * 1e3, t.min * 1e3, t.max * 1e3, tc.median * 1e3,
-          commitSeconds * 1e3, fs.rays.traced() / t.median * 1e-6);
+          commitSeconds * 1e3, fs.rays.traced() / t.median * 1e-6,
+          rs.adaptive
+              ? (", supersampled " + std::to_string(fs.pixelsSupersampled) + " of " + std::to_string(w * h) + " pixels")
+                    .c_str()
+              : "");
       std::fflush(stdout);
       if (a.has("png")) savePng(a.str("png"), fb);
     }
@@ -800,10 +822,27 @@ int cmdError(const Args& a) {
   const Features& f = bs.scene.features();
   bool secondary = f.reflective || f.transmissive;
 
-  CsvWriter csv(a.str("csv"), {"scene",      "spp",          "adaptive",       "depth",       "threshold",
-                               "is_default", "is_reference", "seconds_median", "seconds_min", "runs",
-                               "rays",       "rmse",         "psnr",           "ssim",        "est_rms",
-                               "est_max",    "trunc_rms",    "trunc_max",      "trunc_rmse",  "cpu_seconds_median"});
+  CsvWriter csv(a.str("csv"), {"scene",
+                               "spp",
+                               "adaptive",
+                               "depth",
+                               "threshold",
+                               "is_default",
+                               "is_reference",
+                               "seconds_median",
+                               "seconds_min",
+                               "runs",
+                               "rays",
+                               "rmse",
+                               "psnr",
+                               "ssim",
+                               "est_rms",
+                               "est_max",
+                               "trunc_rms",
+                               "trunc_max",
+                               "trunc_rmse",
+                               "cpu_seconds_median",
+                               "pixels_supersampled"});
   double budget = a.real("budget", 3.0);
   // Wall time (the renderer's timer) and the process CPU time of the same runs: on a shared machine the CPU
   // time is the stable cost measure
@@ -849,7 +888,8 @@ int cmdError(const Args& a) {
            "0",
            "0",
            "0",
-           fmt(cpuMedian)});
+           fmt(cpuMedian),
+           "0"});
   std::printf("%s reference (%d spp, depth %d, threshold 0): %.2f s, error estimate RMS %.3g\n", bs.name.c_str(),
               refSpp, refDepth, refT.median, refFs.errorEstimateRms);
 
@@ -913,7 +953,8 @@ int cmdError(const Args& a) {
                  fmt(et.maxChannelRms),
                  fmt(et.maxChannelMax),
                  fmt(et.rmse),
-                 fmt(cpuMedian)});
+                 fmt(cpuMedian),
+                 fmt(fs.pixelsSupersampled)});
         if (isDefault) savePng(pngDir.empty() ? "" : pngDir + "/" + bs.name + "_default.png", fb);
         std::printf(
             "%-12s spp %2d%s depth %d thr %6.4f: %8.2f ms (cpu %8.2f ms)  RMSE %.4f  PSNR %5.2f  SSIM %.4f  "
