@@ -350,6 +350,26 @@ SceneStats Scene::stats() const {
 
 // Queries ---------------------------------------------------------------------------------------------------
 
+std::optional<PrimHit> Scene::intersectLeafSlot(const Object& o, uint32_t slot, const Ray& r, const TriangleRay& tr) {
+  // One dispatch per primitive test, shared by closest-hit and shadow queries (the switch is on a per-object
+  // constant, so it predicts perfectly)
+  switch (o.type) {
+    case GeometryType::Triangles: {
+      const glm::uvec3& t = o.leafTris[slot];
+      return intersectTriangle(r, tr, o.mesh.positions[t.x], o.mesh.positions[t.y], o.mesh.positions[t.z]);
+    }
+    case GeometryType::Spheres: {
+      uint32_t p = o.leafPrims[slot];
+      return intersectSphere(r, o.spheres.centers[p], radiusAt(o.spheres.radii, p));
+    }
+    case GeometryType::Capsules: {
+      uint32_t p = o.leafPrims[slot];
+      return intersectCapsule(r, o.capsules.p0[p], o.capsules.p1[p], radiusAt(o.capsules.radii, p));
+    }
+  }
+  return std::nullopt;
+}
+
 bool Scene::intersectObject(const Object& o, uint32_t instance, const Ray& ray, double& tMax, Hit& hit,
                             uint64_t* nodes) const {
   // Hits within kTieRelative * t of the best one count as the same distance: the lower (instance, primitive) wins,
@@ -365,23 +385,7 @@ bool Scene::intersectObject(const Object& o, uint32_t instance, const Ray& ray, 
         for (uint32_t s = first; s < first + count; ++s) {
           r.tMax = tm;
           std::optional<PrimHit> h;
-          switch (o.type) {
-            case GeometryType::Triangles: {
-              const glm::uvec3& t = o.leafTris[s];
-              h = intersectTriangle(r, tr, o.mesh.positions[t.x], o.mesh.positions[t.y], o.mesh.positions[t.z]);
-              break;
-            }
-            case GeometryType::Spheres: {
-              uint32_t p = o.leafPrims[s];
-              h = intersectSphere(r, o.spheres.centers[p], radiusAt(o.spheres.radii, p));
-              break;
-            }
-            case GeometryType::Capsules: {
-              uint32_t p = o.leafPrims[s];
-              h = intersectCapsule(r, o.capsules.p0[p], o.capsules.p1[p], radiusAt(o.capsules.radii, p));
-              break;
-            }
-          }
+          h = intersectLeafSlot(o, s, r, tr);
           if (h) {
             uint32_t prim = o.leafPrims[s];
             double tie = kTieRelative * std::abs(hit.t);
@@ -454,21 +458,7 @@ Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes) const 
                   Ray rr = r;
                   for (int guard = 0; guard < 4; ++guard) {
                     std::optional<PrimHit> h;
-                    uint32_t p = o.leafPrims[k];
-                    switch (o.type) {
-                      case GeometryType::Triangles: {
-                        const glm::uvec3& t = o.leafTris[k];
-                        h = intersectTriangle(rr, tr, o.mesh.positions[t.x], o.mesh.positions[t.y],
-                                              o.mesh.positions[t.z]);
-                        break;
-                      }
-                      case GeometryType::Spheres:
-                        h = intersectSphere(rr, o.spheres.centers[p], radiusAt(o.spheres.radii, p));
-                        break;
-                      case GeometryType::Capsules:
-                        h = intersectCapsule(rr, o.capsules.p0[p], o.capsules.p1[p], radiusAt(o.capsules.radii, p));
-                        break;
-                    }
+                    h = intersectLeafSlot(o, k, rr, tr);
                     if (!h) break;
                     if (opaque) return true;
                     atten *= kt;

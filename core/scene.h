@@ -162,6 +162,8 @@ class Scene {
   };
 
   void rebuildObject(Object& o, CommitStats& st);
+  /// Tests the primitive in BVH leaf slot `slot` of o against r (tr: r's precomputed triangle setup).
+  static std::optional<PrimHit> intersectLeafSlot(const Object& o, uint32_t slot, const Ray& r, const TriangleRay& tr);
   bool intersectObject(const Object& o, uint32_t instance, const Ray& ray, double& tMax, Hit& hit,
                        uint64_t* nodes) const;
   template <typename Fn>
