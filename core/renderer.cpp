@@ -90,11 +90,21 @@ class FrameJob {
     std::atomic<bool> abortFlag{aborted_};
     std::mutex errorMutex;
     std::exception_ptr error;
+    const std::size_t total = myTiles_.size();
+    std::size_t reported = 0;
+    // VTK's abort check and progress must run on the calling (GL) thread
+    auto poll = [&](std::size_t d) {
+      if (s_.abortCheck && s_.abortCheck()) abortFlag = true;
+      if (s_.progress && d > reported) {
+        reported = d;
+        s_.progress(double(d) / double(total));
+      }
+    };
     auto worker = [&](bool mainThread) {
       for (;;) {
         if (abortFlag.load(std::memory_order_relaxed)) return;
         std::size_t i = next.fetch_add(1);
-        if (i >= myTiles_.size()) return;
+        if (i >= total) break;
         try {
           tileFn(int(i));
         } catch (...) {
@@ -105,11 +115,18 @@ class FrameJob {
           return;
         }
         std::size_t d = done.fetch_add(1) + 1;
-        if (mainThread) {
-          // VTK's abort check and progress must run on the calling (GL) thread
-          if (s_.abortCheck && s_.abortCheck()) abortFlag = true;
-          if (s_.progress) s_.progress(double(d) / double(myTiles_.size()));
+        if (mainThread) poll(d);
+      }
+      // Out of tiles: the calling thread keeps polling until the workers finish their last tiles, so progress
+      // always reaches 1 and an abort stays responsive even when the workers took every tile.
+      while (mainThread && !abortFlag.load()) {
+        std::size_t d = done.load();
+        if (d >= total) {
+          if (s_.progress && d > reported) s_.progress(1.0);
+          break;
         }
+        poll(d);
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
       }
     };
     std::vector<std::thread> pool;

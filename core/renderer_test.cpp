@@ -6,8 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
+#include <thread>
+#include <vector>
 
 using namespace whitted;
 
@@ -186,6 +189,32 @@ TEST(Image, PngRoundTripHeaderAndCrc) {
   std::fclose(f);
   EXPECT_EQ(sig[1], 'P');
   EXPECT_EQ(sig[2], 'N');
+}
+
+// Progress is reported on the calling thread only, never decreases, and ends at exactly 1 even when the worker
+// threads take every tile (tiny tiles, more threads than cores).
+TEST(Renderer, ProgressIsMonotonicOnCallerAndReachesOne) {
+  Classic c;
+  Camera cam = c.cs.make(1.0, c.scene.bounds());
+  for (int threads : {1, 2, 5}) {
+    RenderSettings rs;
+    rs.tileSize = 4;
+    rs.threads = threads;
+    std::vector<double> seen;
+    const std::thread::id caller = std::this_thread::get_id();
+    bool offThread = false;
+    rs.progress = [&](double f) {
+      offThread |= std::this_thread::get_id() != caller;
+      seen.push_back(f);
+    };
+    FrameBuffer fb;
+    FrameStats fs = render(c.scene, cam, rs, 64, 64, fb);
+    EXPECT_FALSE(fs.aborted) << threads;
+    EXPECT_FALSE(offThread) << threads;
+    ASSERT_FALSE(seen.empty()) << threads;
+    EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end())) << threads;
+    EXPECT_EQ(seen.back(), 1.0) << threads;
+  }
 }
 
 // An exception thrown while tiles are traced on several threads (here: by the progress callback) reaches the
