@@ -98,10 +98,13 @@ struct CellArrays
   vtkNew<vtkCellArray> Empty;
   vtkCellArray* Arrays[4];
   vtkIdType FirstId[4];
-  vtkCellArray* Verts() const { return this->Arrays[0]; }
-  vtkCellArray* Lines() const { return this->Arrays[1]; }
-  vtkCellArray* Polys() const { return this->Arrays[2]; }
-  vtkCellArray* Strips() const { return this->Arrays[3]; }
+  enum Kind
+  {
+    Verts = 0,
+    Lines = 1,
+    Polys = 2,
+    Strips = 3
+  };
   vtkIdType Total = 0;
 
   CellArrays(vtkPolyData* poly, int& malformed)
@@ -124,6 +127,29 @@ struct CellArrays
       this->Arrays[k] = ca ? ca : this->Empty.Get();
     }
   }
+
+  // Calls fn(n, ids, cellId) for every cell of array k whose ids all name a point; counts the
+  // others in invalid.
+  template <typename Fn>
+  void ForEachValidCell(int k, vtkIdType np, vtkIdType& invalid, Fn&& fn) const
+  {
+    vtkIdType cellId = this->FirstId[k];
+    auto it = vtk::TakeSmartPointer(this->Arrays[k]->NewIterator());
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
+    {
+      vtkIdType n;
+      const vtkIdType* ids;
+      it->GetCurrentCell(n, ids);
+      if (ValidCell(n, ids, np))
+      {
+        fn(n, ids, cellId);
+      }
+      else
+      {
+        ++invalid;
+      }
+    }
+  }
 };
 
 //------------------------------------------------------------------------------
@@ -140,74 +166,56 @@ struct TriangleList
 void Triangulate(vtkPoints* points, const CellArrays& cells, TriangleList& out, vtkIdType& invalid)
 {
   const vtkIdType np = points->GetNumberOfPoints();
-  vtkIdType cellId = cells.FirstId[2];
   vtkNew<vtkPolygon> polygon;
   vtkNew<vtkIdList> tris;
 
-  auto polys = vtk::TakeSmartPointer(cells.Polys()->NewIterator());
-  for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell(), ++cellId)
-  {
-    vtkIdType n;
-    const vtkIdType* ids;
-    polys->GetCurrentCell(n, ids);
-    if (!ValidCell(n, ids, np))
+  cells.ForEachValidCell(CellArrays::Polys, np, invalid,
+    [&](vtkIdType n, const vtkIdType* ids, vtkIdType cellId)
     {
-      ++invalid;
-      continue;
-    }
-    if (n < 3)
-    {
-      continue;
-    }
-    if (n == 3 || IsConvexPolygon(points, n, ids))
-    {
-      for (vtkIdType i = 1; i + 1 < n; ++i)
+      if (n < 3)
       {
-        out.Tris.emplace_back(ids[0], ids[i], ids[i + 1]);
-        out.Cells.push_back(cellId);
+        return;
       }
-      continue;
-    }
-    // Concave: ear cutting on a local copy
-    polygon->GetPointIds()->SetNumberOfIds(n);
-    polygon->GetPoints()->SetNumberOfPoints(n);
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      polygon->GetPointIds()->SetId(i, ids[i]);
-      polygon->GetPoints()->SetPoint(i, points->GetPoint(ids[i]));
-    }
-    tris->Reset();
-    polygon->Triangulate(tris);
-    for (vtkIdType i = 0; i + 2 < tris->GetNumberOfIds(); i += 3)
-    {
-      const vtkIdType a = tris->GetId(i), b = tris->GetId(i + 1), c = tris->GetId(i + 2);
-      if (a >= 0 && a < n && b >= 0 && b < n && c >= 0 && c < n)
+      if (n == 3 || IsConvexPolygon(points, n, ids))
       {
-        out.Tris.emplace_back(ids[a], ids[b], ids[c]);
-        out.Cells.push_back(cellId);
+        for (vtkIdType i = 1; i + 1 < n; ++i)
+        {
+          out.Tris.emplace_back(ids[0], ids[i], ids[i + 1]);
+          out.Cells.push_back(cellId);
+        }
+        return;
       }
-    }
-  }
+      // Concave: ear cutting on a local copy
+      polygon->GetPointIds()->SetNumberOfIds(n);
+      polygon->GetPoints()->SetNumberOfPoints(n);
+      for (vtkIdType i = 0; i < n; ++i)
+      {
+        polygon->GetPointIds()->SetId(i, ids[i]);
+        polygon->GetPoints()->SetPoint(i, points->GetPoint(ids[i]));
+      }
+      tris->Reset();
+      polygon->Triangulate(tris);
+      for (vtkIdType i = 0; i + 2 < tris->GetNumberOfIds(); i += 3)
+      {
+        const vtkIdType a = tris->GetId(i), b = tris->GetId(i + 1), c = tris->GetId(i + 2);
+        if (a >= 0 && a < n && b >= 0 && b < n && c >= 0 && c < n)
+        {
+          out.Tris.emplace_back(ids[a], ids[b], ids[c]);
+          out.Cells.push_back(cellId);
+        }
+      }
+    });
 
   // Strips: alternate winding as OpenGL does
-  cellId = cells.FirstId[3];
-  auto strips = vtk::TakeSmartPointer(cells.Strips()->NewIterator());
-  for (strips->GoToFirstCell(); !strips->IsDoneWithTraversal(); strips->GoToNextCell(), ++cellId)
-  {
-    vtkIdType n;
-    const vtkIdType* ids;
-    strips->GetCurrentCell(n, ids);
-    if (!ValidCell(n, ids, np))
+  cells.ForEachValidCell(CellArrays::Strips, np, invalid,
+    [&](vtkIdType n, const vtkIdType* ids, vtkIdType cellId)
     {
-      ++invalid;
-      continue;
-    }
-    for (vtkIdType j = 0; j + 2 < n; ++j)
-    {
-      out.Tris.emplace_back(ids[j], ids[j + 1 + j % 2], ids[j + 1 + (j + 1) % 2]);
-      out.Cells.push_back(cellId);
-    }
-  }
+      for (vtkIdType j = 0; j + 2 < n; ++j)
+      {
+        out.Tris.emplace_back(ids[j], ids[j + 1 + j % 2], ids[j + 1 + (j + 1) % 2]);
+        out.Cells.push_back(cellId);
+      }
+    });
 }
 
 //------------------------------------------------------------------------------
@@ -472,9 +480,6 @@ void vtkWhittedPolyDataConverter::ConvertPrimitives(
   const bool sphereRadiusOk = sphereRadius > 0.0 && std::isfinite(sphereRadius);
   const bool tubeRadiusOk = tubeRadius > 0.0 && std::isfinite(tubeRadius);
 
-  vtkCellArray* verts = cells.Verts();
-  vtkCellArray* lines = cells.Lines();
-
   // Points as spheres: every vertex of a vertex cell, or in points representation every point any
   // cell uses (once)
   auto addSphere = [&](vtkIdType pid, vtkIdType cell)
@@ -510,48 +515,30 @@ void vtkWhittedPolyDataConverter::ConvertPrimitives(
     std::vector<bool> seen(static_cast<size_t>(np), false);
     for (int k = 0; k < 4; ++k)
     {
-      vtkIdType cellId = cells.FirstId[k];
-      auto it = vtk::TakeSmartPointer(cells.Arrays[k]->NewIterator());
-      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
-      {
-        vtkIdType n;
-        const vtkIdType* ids;
-        it->GetCurrentCell(n, ids);
-        if (!ValidCell(n, ids, np))
+      cells.ForEachValidCell(k, np, issues.InvalidCells,
+        [&](vtkIdType n, const vtkIdType* ids, vtkIdType cellId)
         {
-          ++issues.InvalidCells;
-          continue;
-        }
-        for (vtkIdType i = 0; i < n; ++i)
-        {
-          if (!seen[ids[i]])
+          for (vtkIdType i = 0; i < n; ++i)
           {
-            seen[ids[i]] = true;
-            addSphere(ids[i], cellId);
+            if (!seen[ids[i]])
+            {
+              seen[ids[i]] = true;
+              addSphere(ids[i], cellId);
+            }
           }
-        }
-      }
+        });
     }
   }
   else
   {
-    vtkIdType cellId = cells.FirstId[0];
-    auto it = vtk::TakeSmartPointer(verts->NewIterator());
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
-    {
-      vtkIdType n;
-      const vtkIdType* ids;
-      it->GetCurrentCell(n, ids);
-      if (!ValidCell(n, ids, np))
+    cells.ForEachValidCell(CellArrays::Verts, np, issues.InvalidCells,
+      [&](vtkIdType n, const vtkIdType* ids, vtkIdType cellId)
       {
-        ++issues.InvalidCells;
-        continue;
-      }
-      for (vtkIdType i = 0; i < n; ++i)
-      {
-        addSphere(ids[i], cellId);
-      }
-    }
+        for (vtkIdType i = 0; i < n; ++i)
+        {
+          addSphere(ids[i], cellId);
+        }
+      });
   }
   if (!out.Spheres.centers.empty())
   {
@@ -569,23 +556,14 @@ void vtkWhittedPolyDataConverter::ConvertPrimitives(
   // Lines as tubes (capsules, so consecutive segments join seamlessly)
   if (o.Representation != VTK_POINTS)
   {
-    vtkIdType cellId = cells.FirstId[1];
-    auto it = vtk::TakeSmartPointer(lines->NewIterator());
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
-    {
-      vtkIdType n;
-      const vtkIdType* ids;
-      it->GetCurrentCell(n, ids);
-      if (!ValidCell(n, ids, np))
+    cells.ForEachValidCell(CellArrays::Lines, np, issues.InvalidCells,
+      [&](vtkIdType n, const vtkIdType* ids, vtkIdType cellId)
       {
-        ++issues.InvalidCells;
-        continue;
-      }
-      for (vtkIdType i = 0; i + 1 < n; ++i)
-      {
-        addCapsule(ids[i], ids[i + 1], cellId);
-      }
-    }
+        for (vtkIdType i = 0; i + 1 < n; ++i)
+        {
+          addCapsule(ids[i], ids[i + 1], cellId);
+        }
+      });
   }
   if (o.Representation == VTK_WIREFRAME)
   {
@@ -600,45 +578,27 @@ void vtkWhittedPolyDataConverter::ConvertPrimitives(
         addCapsule(a, b, cell);
       }
     };
-    vtkIdType cellId = cells.FirstId[2];
-    auto polys = vtk::TakeSmartPointer(cells.Polys()->NewIterator());
-    for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell(), ++cellId)
-    {
-      vtkIdType n;
-      const vtkIdType* ids;
-      polys->GetCurrentCell(n, ids);
-      if (!ValidCell(n, ids, np))
+    cells.ForEachValidCell(CellArrays::Polys, np, issues.InvalidCells,
+      [&](vtkIdType n, const vtkIdType* ids, vtkIdType cellId)
       {
-        ++issues.InvalidCells;
-        continue;
-      }
-      for (vtkIdType i = 0; i < n; ++i)
+        for (vtkIdType i = 0; i < n; ++i)
+        {
+          addEdge(ids[i], ids[(i + 1) % n], cellId);
+        }
+      });
+    cells.ForEachValidCell(CellArrays::Strips, np, issues.InvalidCells,
+      [&](vtkIdType n, const vtkIdType* ids, vtkIdType cellId)
       {
-        addEdge(ids[i], ids[(i + 1) % n], cellId);
-      }
-    }
-    cellId = cells.FirstId[3];
-    auto strips = vtk::TakeSmartPointer(cells.Strips()->NewIterator());
-    for (strips->GoToFirstCell(); !strips->IsDoneWithTraversal(); strips->GoToNextCell(), ++cellId)
-    {
-      vtkIdType n;
-      const vtkIdType* ids;
-      strips->GetCurrentCell(n, ids);
-      if (!ValidCell(n, ids, np))
-      {
-        ++issues.InvalidCells;
-        continue;
-      }
-      if (n >= 2)
-      {
-        addEdge(ids[0], ids[1], cellId);
-      }
-      for (vtkIdType j = 0; j + 2 < n; ++j)
-      {
-        addEdge(ids[j], ids[j + 2], cellId);
-        addEdge(ids[j + 1], ids[j + 2], cellId);
-      }
-    }
+        if (n >= 2)
+        {
+          addEdge(ids[0], ids[1], cellId);
+        }
+        for (vtkIdType j = 0; j + 2 < n; ++j)
+        {
+          addEdge(ids[j], ids[j + 2], cellId);
+          addEdge(ids[j + 1], ids[j + 2], cellId);
+        }
+      });
   }
   if (!out.Capsules.p0.empty())
   {

@@ -47,6 +47,7 @@
 #include "camera.h"
 #include "renderer.h"
 #include "scene.h"
+#include "fuzz_bytes.h"
 
 #include <cmath>
 #include <cstdint>
@@ -63,21 +64,8 @@ vtkInformationKeyMacro(vtkWhittedPass, TRANSMITTANCE, DoubleVector);
 vtkInformationKeyMacro(vtkWhittedPass, INDEX_OF_REFRACTION, Double);
 
 namespace {
-struct Reader {
-  const uint8_t* p;
-  size_t n;
-  template <typename T>
-  T get() {
-    T v{};
-    if (n >= sizeof v) {
-      std::memcpy(&v, p, sizeof v);
-      p += sizeof v;
-      n -= sizeof v;
-    }
-    return v;
-  }
-  uint8_t u8() { return get<uint8_t>(); }
-  bool bit() { return u8() & 1; }
+struct Reader : whitted_fuzz::Bytes {
+  using Bytes::Bytes;
 
   // A coordinate or property value: mostly ordinary, sometimes extreme
   double value() {

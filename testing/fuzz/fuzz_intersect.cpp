@@ -3,6 +3,7 @@
 // barycentrics that sum to <= 1 (+ rounding); the BVH-accelerated closest hit equals brute force.
 #include "scene.h"
 #include "shapes.h"
+#include "fuzz_bytes.h"
 
 #include <cstdint>
 #include <cstdio>
@@ -12,23 +13,7 @@
 using namespace whitted;
 
 namespace {
-struct Reader {
-  const uint8_t* p;
-  size_t n;
-  double d() {
-    double v = 0.0;
-    if (n >= sizeof v) {
-      std::memcpy(&v, p, sizeof v);
-      p += sizeof v;
-      n -= sizeof v;
-    }
-    return v;
-  }
-  Vec3 v3() {
-    double a = d(), b = d(), c = d();
-    return Vec3(a, b, c);
-  }
-};
+using Reader = whitted_fuzz::Bytes;
 }  // namespace
 
 #define CHECK(cond)                                                           \

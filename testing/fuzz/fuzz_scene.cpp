@@ -2,6 +2,7 @@
 // spheres and tubes with any radius, arbitrary materials and lights, random instance transforms and camera), then
 // committed and rendered at 8x8. Invariant: no crash, no sanitizer report, every pixel finite.
 #include "renderer.h"
+#include "fuzz_bytes.h"
 
 #include <cstdint>
 #include <cstdio>
@@ -11,30 +12,7 @@
 using namespace whitted;
 
 namespace {
-struct Reader {
-  const uint8_t* p;
-  size_t n;
-  template <typename T>
-  T get() {
-    T v{};
-    if (n >= sizeof v) {
-      std::memcpy(&v, p, sizeof v);
-      p += sizeof v;
-      n -= sizeof v;
-    }
-    return v;
-  }
-  double d() { return get<double>(); }
-  float f() { return get<float>(); }
-  Vec3 v3() {
-    double a = d(), b = d(), c = d();
-    return Vec3(a, b, c);
-  }
-  Color col() {
-    float a = f(), b = f(), c = f();
-    return Color(a, b, c);
-  }
-};
+using Reader = whitted_fuzz::Bytes;
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -95,12 +95,7 @@ int TestWhittedAbortRerender(int, char*[])
   glass->GetProperty()->SetDiffuse(0.1);
   SetWhitted(glass->GetProperty(), 0.1, 0.85, 1.5);
   ren->AddActor(glass);
-  vtkNew<vtkLight> light;
-  light->SetLightTypeToSceneLight();
-  light->SetPositional(true);
-  light->SetPosition(3.0, 6.0, 4.0);
-  light->SetConeAngle(180.0);
-  ren->AddLight(light);
+  AddPointLight(ren, 3.0, 6.0, 4.0);
   ren->SetBackground(0.2, 0.3, 0.5);
   vtkCamera* cam = ren->GetActiveCamera();
   cam->SetPosition(0.0, 3.0, 7.0);

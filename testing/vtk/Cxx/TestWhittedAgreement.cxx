@@ -213,8 +213,9 @@ bool Compare(const char* name, int complexity, bool parallel, const std::string&
   AddLights(ren, complexity);
   ren->GetActiveCamera()->SetParallelProjection(parallel);
   ren->GetActiveCamera()->SetParallelScale(2.6);
-  // With a parallel camera VTK's specular term uses V = normalize(eye - P) (the camera position, as if
-  // perspective); the pass does the same (IntegratorSettings::viewFromEye), so specular stays on here.
+  // With a parallel camera VTK's specular term uses V = normalize(eye - P) (the camera position, as
+  // if perspective); the pass does the same (IntegratorSettings::viewFromEye), so specular stays on
+  // here.
 
   // VTK's OpenGL image
   win->Render();

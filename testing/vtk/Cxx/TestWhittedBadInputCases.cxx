@@ -601,12 +601,7 @@ Outcome RenderScene(vtkRenderWindow* win, vtkActor* extra)
   {
     ren->AddActor(extra);
   }
-  vtkNew<vtkLight> light;
-  light->SetLightTypeToSceneLight();
-  light->SetPositional(true);
-  light->SetPosition(2.0, 5.0, 4.0);
-  light->SetConeAngle(180.0);
-  ren->AddLight(light);
+  whittedtest::AddPointLight(ren, 2.0, 5.0, 4.0);
   ren->SetBackground(0.25, 0.35, 0.5);
   vtkCamera* cam = ren->GetActiveCamera();
   cam->SetPosition(0.5, 2.2, 5.0);

@@ -48,13 +48,7 @@ int TestWhittedClassic(int argc, char* argv[])
   SetWhitted(glass->GetProperty(), 0.1, 0.9, 1.5);
   ren->AddActor(glass);
 
-  vtkNew<vtkLight> light;
-  light->SetLightTypeToSceneLight();
-  light->SetPositional(true);
-  light->SetPosition(4.0, 7.0, 3.0);
-  light->SetFocalPoint(0.0, 0.0, 0.0);
-  light->SetConeAngle(180.0);
-  ren->AddLight(light);
+  AddPointLight(ren, 4.0, 7.0, 3.0);
   ren->SetBackground(0.3, 0.5, 0.85);
 
   vtkCamera* cam = ren->GetActiveCamera();

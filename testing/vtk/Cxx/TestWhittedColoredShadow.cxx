@@ -42,19 +42,10 @@ int TestWhittedColoredShadow(int argc, char* argv[])
   solid->GetProperty()->SetColor(0.9, 0.9, 0.3);
   ren->AddActor(solid);
 
-  vtkNew<vtkLight> light;
-  light->SetLightTypeToSceneLight();
-  light->SetPositional(true);
-  light->SetPosition(-0.4, 5.0, 0.6);
-  light->SetConeAngle(180);
-  ren->AddLight(light);
+  AddPointLight(ren, -0.4, 5.0, 0.6);
   ren->SetBackground(0.2, 0.2, 0.25);
 
-  vtkCamera* cam = ren->GetActiveCamera();
-  cam->SetPosition(0.0, 4.0, 5.5);
-  cam->SetFocalPoint(0.0, 0.3, 0.0);
-  cam->SetViewAngle(38);
-  ren->ResetCameraClippingRange();
+  LookAt(ren, { 0.0, 4.0, 5.5 }, { 0.0, 0.3, 0.0 }, 38);
 
   vtkNew<vtkWhittedPass> pass;
   ren->SetPass(pass);

@@ -173,12 +173,7 @@ void Build(Scene& s)
   {
     s.Renderer->AddActor(a);
   }
-  vtkNew<vtkLight> light;
-  light->SetLightTypeToSceneLight();
-  light->SetPositional(true);
-  light->SetPosition(3.0, 6.0, 4.0);
-  light->SetConeAngle(180.0);
-  s.Renderer->AddLight(light);
+  AddPointLight(s.Renderer, 3.0, 6.0, 4.0);
   s.Renderer->SetBackground(0.2, 0.3, 0.4);
   vtkCamera* cam = s.Renderer->GetActiveCamera();
   cam->SetPosition(0.0, 2.5, 6.0);

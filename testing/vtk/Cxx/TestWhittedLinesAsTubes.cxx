@@ -75,18 +75,9 @@ int TestWhittedLinesAsTubes(int argc, char* argv[])
   plain->GetProperty()->SetLineWidth(3);
   ren->AddActor(plain);
 
-  vtkNew<vtkLight> light;
-  light->SetLightTypeToSceneLight();
-  light->SetPositional(true);
-  light->SetPosition(-1.0, 5.0, 3.0);
-  light->SetConeAngle(180);
-  ren->AddLight(light);
+  AddPointLight(ren, -1.0, 5.0, 3.0);
   ren->SetBackground(0.2, 0.2, 0.25);
-  vtkCamera* cam = ren->GetActiveCamera();
-  cam->SetPosition(0.5, 2.8, 5.5);
-  cam->SetFocalPoint(0.0, 0.8, 0.0);
-  cam->SetViewAngle(40);
-  ren->ResetCameraClippingRange();
+  LookAt(ren, { 0.5, 2.8, 5.5 }, { 0.0, 0.8, 0.0 }, 40);
 
   vtkNew<vtkWhittedPass> pass;
   ren->SetPass(pass);

@@ -85,18 +85,9 @@ int TestWhittedMultiBlock(int argc, char* argv[])
   actor->GetProperty()->SetSpecularPower(30);
   ren->AddActor(actor);
 
-  vtkNew<vtkLight> light;
-  light->SetLightTypeToSceneLight();
-  light->SetPositional(true);
-  light->SetPosition(-1.0, 5.0, 3.0);
-  light->SetConeAngle(180);
-  ren->AddLight(light);
+  AddPointLight(ren, -1.0, 5.0, 3.0);
   ren->SetBackground(0.2, 0.2, 0.25);
-  vtkCamera* cam = ren->GetActiveCamera();
-  cam->SetPosition(0.0, 3.0, 5.5);
-  cam->SetFocalPoint(0.0, 0.5, 0.0);
-  cam->SetViewAngle(40);
-  ren->ResetCameraClippingRange();
+  LookAt(ren, { 0.0, 3.0, 5.5 }, { 0.0, 0.5, 0.0 }, 40);
 
   vtkNew<vtkWhittedPass> pass;
   ren->SetPass(pass);

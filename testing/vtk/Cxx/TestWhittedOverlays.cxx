@@ -67,18 +67,9 @@ int TestWhittedOverlays(int argc, char* argv[])
   widget->SetEnabled(1);
   widget->InteractiveOff();
 
-  vtkNew<vtkLight> light;
-  light->SetLightTypeToSceneLight();
-  light->SetPositional(true);
-  light->SetPosition(-2.0, 5.0, 3.0);
-  light->SetConeAngle(180);
-  ren->AddLight(light);
+  AddPointLight(ren, -2.0, 5.0, 3.0);
   ren->SetBackground(0.2, 0.25, 0.3);
-  vtkCamera* cam = ren->GetActiveCamera();
-  cam->SetPosition(1.0, 3.0, 5.5);
-  cam->SetFocalPoint(0.0, 0.7, 0.0);
-  cam->SetViewAngle(40);
-  ren->ResetCameraClippingRange();
+  LookAt(ren, { 1.0, 3.0, 5.5 }, { 0.0, 0.7, 0.0 }, 40);
 
   vtkNew<vtkWhittedPass> pass;
   ren->SetPass(pass);

@@ -74,18 +74,9 @@ int TestWhittedPointsAsSpheres(int argc, char* argv[])
   SetWhitted(mirror->GetProperty(), 0.85);
   ren->AddActor(mirror);
 
-  vtkNew<vtkLight> light;
-  light->SetLightTypeToSceneLight();
-  light->SetPositional(true);
-  light->SetPosition(1.0, 5.0, 3.0);
-  light->SetConeAngle(180);
-  ren->AddLight(light);
+  AddPointLight(ren, 1.0, 5.0, 3.0);
   ren->SetBackground(0.2, 0.2, 0.25);
-  vtkCamera* cam = ren->GetActiveCamera();
-  cam->SetPosition(0.8, 2.6, 5.5);
-  cam->SetFocalPoint(-0.2, 0.7, 0.0);
-  cam->SetViewAngle(40);
-  ren->ResetCameraClippingRange();
+  LookAt(ren, { 0.8, 2.6, 5.5 }, { -0.2, 0.7, 0.0 }, 40);
 
   vtkNew<vtkWhittedPass> pass;
   ren->SetPass(pass);

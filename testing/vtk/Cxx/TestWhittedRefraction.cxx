@@ -91,11 +91,7 @@ int TestWhittedRefraction(int argc, char* argv[])
   ren->AddLight(light);
   ren->SetBackground(0.3, 0.3, 0.3);
 
-  vtkCamera* cam = ren->GetActiveCamera();
-  cam->SetPosition(0.0, 0.8, 7.0);
-  cam->SetFocalPoint(0.0, 0.2, 0.0);
-  cam->SetViewAngle(40);
-  ren->ResetCameraClippingRange();
+  LookAt(ren, { 0.0, 0.8, 7.0 }, { 0.0, 0.2, 0.0 }, 40);
 
   vtkNew<vtkWhittedPass> pass;
   pass->SetMaxDepth(8);

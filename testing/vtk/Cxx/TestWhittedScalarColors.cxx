@@ -82,11 +82,7 @@ int TestWhittedScalarColors(int argc, char* argv[])
   ren->AddActor(a3);
 
   ren->SetBackground(0.25, 0.25, 0.3);
-  vtkCamera* cam = ren->GetActiveCamera();
-  cam->SetPosition(0, 1.2, 6.5);
-  cam->SetFocalPoint(0, 0, 0);
-  cam->SetViewAngle(40);
-  ren->ResetCameraClippingRange();
+  LookAt(ren, { 0, 1.2, 6.5 }, { 0, 0, 0 }, 40);
 
   vtkNew<vtkWhittedPass> pass;
   ren->SetPass(pass);

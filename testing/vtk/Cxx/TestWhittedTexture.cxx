@@ -88,18 +88,9 @@ int TestWhittedTexture(int argc, char* argv[])
   SetWhitted(mirror->GetProperty(), 0.8);
   ren->AddActor(mirror);
 
-  vtkNew<vtkLight> light;
-  light->SetLightTypeToSceneLight();
-  light->SetPositional(true);
-  light->SetPosition(-2.0, 5.0, 3.0);
-  light->SetConeAngle(180);
-  ren->AddLight(light);
+  AddPointLight(ren, -2.0, 5.0, 3.0);
   ren->SetBackground(0.3, 0.35, 0.45);
-  vtkCamera* cam = ren->GetActiveCamera();
-  cam->SetPosition(0.5, 3.0, 5.5);
-  cam->SetFocalPoint(0.0, 0.5, 0.0);
-  cam->SetViewAngle(40);
-  ren->ResetCameraClippingRange();
+  LookAt(ren, { 0.5, 3.0, 5.5 }, { 0.0, 0.5, 0.0 }, 40);
 
   vtkNew<vtkWhittedPass> pass;
   ren->SetPass(pass);

@@ -82,18 +82,9 @@ int TestWhittedTransforms(int argc, char* argv[])
   assembly->RotateY(35);
   ren->AddActor(assembly);
 
-  vtkNew<vtkLight> light;
-  light->SetLightTypeToSceneLight();
-  light->SetPositional(true);
-  light->SetPosition(-1.0, 5.0, 4.0);
-  light->SetConeAngle(180);
-  ren->AddLight(light);
+  AddPointLight(ren, -1.0, 5.0, 4.0);
   ren->SetBackground(0.2, 0.2, 0.25);
-  vtkCamera* cam = ren->GetActiveCamera();
-  cam->SetPosition(0.0, 3.5, 5.5);
-  cam->SetFocalPoint(-0.2, 0.4, 0.0);
-  cam->SetViewAngle(40);
-  ren->ResetCameraClippingRange();
+  LookAt(ren, { 0.0, 3.5, 5.5 }, { -0.2, 0.4, 0.0 }, 40);
 
   vtkNew<vtkWhittedPass> pass;
   ren->SetPass(pass);

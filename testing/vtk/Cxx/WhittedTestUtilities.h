@@ -4,11 +4,13 @@
 
 #include "vtkActor.h"
 #include "vtkCallbackCommand.h"
+#include "vtkCamera.h"
 #include "vtkCellData.h"
 #include "vtkCommand.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
+#include "vtkLight.h"
 #include "vtkNew.h"
 #include "vtkPlaneSource.h"
 #include "vtkPointData.h"
@@ -23,6 +25,7 @@
 #include "vtkWhittedPass.h"
 #include "vtkWindowToImageFilter.h"
 
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <string>
@@ -39,6 +42,30 @@ inline vtkSmartPointer<vtkRenderWindow> MakeWindow(int w, int h)
   win->SetSize(w, h);
   win->SetOffScreenRendering(1);
   return win;
+}
+
+/// A positional scene light shining in every direction (cone 180 degrees) from (x, y, z).
+inline vtkLight* AddPointLight(vtkRenderer* ren, double x, double y, double z)
+{
+  vtkNew<vtkLight> light;
+  light->SetLightTypeToSceneLight();
+  light->SetPositional(true);
+  light->SetPosition(x, y, z);
+  light->SetConeAngle(180.0);
+  ren->AddLight(light); // the renderer keeps it alive
+  return light;
+}
+
+/// Perspective camera at eye looking at focal point with the given view angle; clipping range
+/// reset.
+inline void LookAt(vtkRenderer* ren, const std::array<double, 3>& eye,
+  const std::array<double, 3>& focal, double viewAngle)
+{
+  vtkCamera* cam = ren->GetActiveCamera();
+  cam->SetPosition(eye.data());
+  cam->SetFocalPoint(focal.data());
+  cam->SetViewAngle(viewAngle);
+  ren->ResetCameraClippingRange();
 }
 
 /// Whitted keys on a property; negative values leave a key unset.
