@@ -25,7 +25,7 @@ struct RenderSettings {
   int samplesPerPixel = 1;  ///< Stratified samples per pixel; 1 = the pixel centre. Default 1.
   bool adaptive = false;    ///< Centre sample first, full samples only where neighbours differ. Default off.
   float adaptiveThreshold = 2.0f / 255.0f;  ///< Neighbour difference (max channel) that triggers supersampling.
-  int threads = 0;                          ///< Worker threads; 0 = all cores. Default 0.
+  int threads = 0;                          ///< Worker threads; 0 = hardwareThreads() (all usable cores). Default 0.
   int tileSize = 16;                        ///< Tile edge in pixels. Default 16.
   /// Pixel split between processes: this process traces tiles with index % tileStride == tileOffset, and writes
   /// depth 1 / alpha 0 elsewhere (for sort-last compositing). Default 1/0 = everything.
@@ -54,7 +54,8 @@ struct FrameStats {
 FrameStats render(const Scene& scene, const Camera& camera, const RenderSettings& settings, int width, int height,
                   FrameBuffer& fb);
 
-/// Number of hardware threads (at least 1).
+/// Number of cores this process may run on (its CPU affinity on Linux, else the hardware threads; at least 1):
+/// what RenderSettings::threads = 0 uses.
 int hardwareThreads();
 
 }  // namespace whitted

@@ -12,6 +12,10 @@
 #include <thread>
 #include <vector>
 
+#ifdef __linux__
+#include <sched.h>
+#endif
+
 using namespace whitted;
 
 namespace {
@@ -134,13 +138,21 @@ TEST(Renderer, AbortThenRenderAgainGivesTheRightImage) {
   Camera cam = c.cs.make(1.0, c.scene.bounds());
   RenderSettings rs;
   rs.tileSize = 4;
-  rs.threads = 2;
   int calls = 0;
   rs.abortCheck = [&] { return ++calls >= 3; };
+  // One thread: the check runs after every tile, so exactly three tiles are traced
+  rs.threads = 1;
   FrameBuffer aborted;
   FrameStats fa = render(c.scene, cam, rs, 64, 64, aborted);
   EXPECT_TRUE(fa.aborted);
-  EXPECT_LT(fa.rays.primary, 64u * 64u);
+  EXPECT_EQ(fa.rays.primary, 3u * 4u * 4u);
+  // Two threads: the calling thread checks between its tiles. The frame has 16384 tiles, so the worker cannot
+  // finish them all before the third check unless the calling thread is starved for the whole frame.
+  rs.threads = 2;
+  calls = 0;
+  fa = render(c.scene, cam, rs, 512, 512, aborted);
+  EXPECT_TRUE(fa.aborted);
+  EXPECT_LT(fa.rays.primary, 512u * 512u);
   rs.abortCheck = nullptr;
   FrameBuffer again, ref;
   render(c.scene, cam, rs, 64, 64, again);
@@ -190,6 +202,24 @@ TEST(Image, PngRoundTripHeaderAndCrc) {
   EXPECT_EQ(sig[1], 'P');
   EXPECT_EQ(sig[2], 'N');
 }
+
+#ifdef __linux__
+// threads = 0 means the cores the process may run on (mpirun binds ranks to cores, taskset, cpusets).
+TEST(Renderer, AllCoresMeansTheAffinityMask) {
+  cpu_set_t saved;
+  ASSERT_EQ(sched_getaffinity(0, sizeof saved, &saved), 0);
+  int first = 0;
+  while (!CPU_ISSET(first, &saved)) ++first;
+  cpu_set_t one;
+  CPU_ZERO(&one);
+  CPU_SET(first, &one);
+  ASSERT_EQ(sched_setaffinity(0, sizeof one, &one), 0);
+  const int bound = hardwareThreads();
+  ASSERT_EQ(sched_setaffinity(0, sizeof saved, &saved), 0);
+  EXPECT_EQ(bound, 1);
+  EXPECT_EQ(hardwareThreads(), CPU_COUNT(&saved));
+}
+#endif
 
 // Progress is reported on the calling thread only, never decreases, and ends at exactly 1 even when the worker
 // threads take every tile (tiny tiles, more threads than cores).

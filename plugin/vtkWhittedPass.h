@@ -131,7 +131,8 @@ public:
 
   ///@{
   /**
-   * Number of tracing threads; 0 uses all cores. Default is 0.
+   * Number of tracing threads; 0 uses every core the process may run on (its CPU affinity, which
+   * mpirun, taskset or a cpuset may restrict). Default is 0.
    */
   vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
   vtkGetMacro(NumberOfThreads, int);

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Whitted benchmark: ray throughput and BVH build against Embree 3, whole frames against POV-Ray 3.7 and VTK's
-own OpenGL renderer, scaling, update cost, and error against run time. Writes a Markdown report, CSV files and
+own OpenGL renderer, scaling, update cost, error against run time, and the ParaView view under MPI. Writes a Markdown report, CSV files and
 PNG plots into one folder and prints the headline table.
 
     /usr/bin/python3 testing/benchmark/run_benchmark.py --build-dir build --out results          # full (~30 min)
@@ -11,11 +11,16 @@ benchmark is then configured standalone from testing/benchmark/). --bench PATH u
 Meshes too large to keep in the repository (1M and 4M triangles) are generated with VTK into --cache
 (default <out>/cache) and reused by later runs.
 
+The mpi section runs testing/paraview/bench_still.py in pvbatch under mpirun; it needs the ParaView plugin build
+(found next to --build-dir as ../paraview and ../pvprefix, as ./whitted.sh test lays them out, or given with
+--paraview-plugin and --pv-pythonpath) and is skipped with a note otherwise.
+
 Every timing is a median of repeated runs after a warm-up; every ratio compares measurements of the same run
 (ours and Embree even alternate run by run). Speed ratios are written ours/anchor: > 1 means Whitted is faster.
 """
 import argparse
 import csv
+import glob
 import json
 import math
 import os
@@ -34,7 +39,7 @@ REPO = os.path.abspath(os.path.join(HERE, "..", ".."))
 DATA = os.path.join(REPO, "data", "benchmark")
 VTK_PYTHON = "/usr/bin/python3"  # Debian's VTK is only visible to the system interpreter
 XVFB = ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24 -noreset"]
-SECTIONS = ["rays", "build", "pov", "vtk", "scaling", "update", "error"]
+SECTIONS = ["rays", "build", "pov", "vtk", "scaling", "update", "error", "mpi"]
 DEFAULT_LABEL = "spp 1, depth 5, threshold 1/255, non-adaptive"
 
 
@@ -52,7 +57,8 @@ def config(quick):
             scaling_thread_scenes=["classic"], scaling_thread_size="128x96",
             update_scene="iso60k", update_size="96x72", update_reps=1,
             error_scenes=["classic"], error_size="64x48", error_ref_spp=4, error_ref_depth=8, error_reps=1,
-            error_budget=1.0, error_quick=True, meshes=[])
+            error_budget=1.0, error_quick=True, meshes=[],
+            mpi_extent=10, mpi_size="160x120", mpi_frames=1, mpi_reps=1)
     return dict(
         ray_scenes=["classic", "iso60k", "iso1m", "iso4m", "points100k", "tubes", "glassmirror"],
         ray_size="1024x768", ray_reps=5,
@@ -64,7 +70,8 @@ def config(quick):
         scaling_thread_scenes=["classic", "iso1m", "tubes"], scaling_thread_size="1024x768",
         update_scene="iso1m", update_size="1024x768", update_reps=5,
         error_scenes=["classic", "iso1m", "points100k", "tubes", "glassmirror"], error_size="192x144",
-        error_ref_spp=64, error_ref_depth=16, error_reps=3, error_budget=1.5, error_quick=False, meshes=["1m", "4m"])
+        error_ref_spp=64, error_ref_depth=16, error_reps=3, error_budget=1.5, error_quick=False, meshes=["1m", "4m"],
+        mpi_extent=122, mpi_size="1024x768", mpi_frames=3, mpi_reps=3)
 
 
 # Running commands ------------------------------------------------------------------------------------------------
@@ -78,11 +85,17 @@ class Runner:
         self.section = ""
         self.by_section = {}
         self.count = 0
+        self.placeholders = []  # (path, placeholder): recorded commands name no folder of this machine
+
+    def mask(self, text):
+        for path, name in sorted(self.placeholders, key=lambda p: -len(p[0])):
+            text = text.replace(path, name)
+        return text
 
     def run(self, cmd, label, env=None, check=True, timeout=None):
         """Runs cmd, keeps its output in logs/, returns (returncode, stdout, wall seconds)."""
         self.count += 1
-        shown = " ".join(shlex.quote(c) for c in cmd)
+        shown = self.mask(" ".join(shlex.quote(c) for c in cmd))
         self.commands.append(shown)
         self.by_section.setdefault(self.section, []).append(shown)
         log = os.path.join(self.logdir, "%02d_%s.log" % (self.count, re.sub(r"[^A-Za-z0-9]+", "_", label)))
@@ -390,6 +403,71 @@ def section_update(ctx):
         return
     ctx.runner.run([ctx.bench, "update", "--scene", s, "--data", ctx.data, "--size", c["update_size"], "--reps",
                     str(c["update_reps"]), "--warmup", "1", "--csv", path], "update " + s)
+
+
+MPI_CONFIGS = [(1, 1), (2, 1), (1, 0)]  # (ranks, tracing threads per rank; 0 = all cores)
+
+
+def find_paraview(ctx):
+    """(WhittedView plugin, PYTHONPATH holding ParaView's Python package) next to the build tree, or ""."""
+    plugin, pvpath = ctx.args.paraview_plugin, ctx.args.pv_pythonpath
+    build = os.path.abspath(ctx.args.build_dir) if ctx.args.build_dir else ""
+    roots = [os.path.dirname(build), build] if build else []  # --build-dir build/vtk or --build-dir build
+    for root in roots:
+        if not plugin:
+            found = sorted(glob.glob(os.path.join(root, "paraview", "lib", "paraview-*", "plugins", "WhittedView",
+                                                  "WhittedView.so")))
+            plugin = found[0] if found else ""
+        if not pvpath:
+            p = os.path.join(root, "pvprefix", "usr", "lib", "python3", "dist-packages")
+            pvpath = p if os.path.isdir(os.path.join(p, "paraview")) else ""
+    return plugin, pvpath
+
+
+def mpi_tools(ctx):
+    plugin, pvpath = find_paraview(ctx)
+    tools = [shutil.which(t) for t in ("pvbatch", "mpirun", "xvfb-run")]
+    return (plugin, pvpath, tools[0], tools[1]) if plugin and pvpath and all(tools) else None
+
+
+def section_mpi(ctx):
+    """The Whitted Ray Trace view in pvbatch: 1 rank x 1 thread, 2 ranks x 1 thread (image split between ranks,
+    geometry replicated) and 1 rank x all threads, alternating, on the wavelet isosurface."""
+    c = ctx.cfg
+    path = fresh(os.path.join(ctx.out, "mpi.csv"))
+    tools = mpi_tools(ctx)
+    if not tools:
+        ctx.notes.append("ParaView plugin build, python3-paraview prefix, pvbatch, mpirun or xvfb-run not found: "
+                         "MPI section skipped (pass --paraview-plugin and --pv-pythonpath)")
+        return
+    plugin, pvpath, pvbatch, mpirun = tools
+    env = dict(os.environ)
+    env["PYTHONPATH"] = pvpath + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+    script = os.path.join(REPO, "testing", "paraview", "bench_still.py")
+    rows = []
+    for rep in range(c["mpi_reps"]):
+        for ranks, threads in MPI_CONFIGS:
+            # --bind-to none: Open MPI binds each rank to one core by default (np <= 2), which would leave the
+            # 1 rank x all threads case one core (the tracer follows the affinity mask)
+            cmd = XVFB + [mpirun, "--allow-run-as-root", "--oversubscribe", "--bind-to", "none", "--mca", "btl", "self,vader", "-x",
+                          "DISPLAY", "-x", "PYTHONPATH", "-np", str(ranks), pvbatch, script, "--plugin", plugin,
+                          "--extent", str(c["mpi_extent"]), "--size", c["mpi_size"], "--threads", str(threads),
+                          "--frames", str(c["mpi_frames"])]
+            _, text, _ = ctx.runner.run(cmd, "mpi %d rank %s threads rep %d" % (ranks, threads or "all", rep),
+                                        env=env, timeout=900)
+            still = re.search(r"first frame ([0-9.]+) s, still frame median ([0-9.]+) s", text)
+            cpu = re.search(r"CPU seconds per frame and rank: ([0-9. ]+) \(load average ([0-9.]+)\)", text)
+            tris = re.search(r"([0-9]+) triangles", text)
+            if not (still and cpu and tris):
+                raise RuntimeError("unexpected output of bench_still.py:\n" + text[-2000:])
+            cpus = [float(v) for v in cpu.group(1).split()]
+            w, h = c["mpi_size"].split("x")
+            rows.append(dict(ranks=ranks, threads_per_rank=threads or ctx.threads, rep=rep,
+                             triangles=int(tris.group(1)), width=int(w), height=int(h),
+                             first_seconds=float(still.group(1)), still_seconds=float(still.group(2)),
+                             cpu_seconds_per_rank=" ".join("%.3f" % v for v in cpus),
+                             cpu_seconds_total=sum(cpus), load=float(cpu.group(2))))
+    write_csv(path, rows)
 
 
 def section_error(ctx):
@@ -815,6 +893,7 @@ def report(ctx, started, elapsed):
     vtk = read_csv(os.path.join(out, "vtk_opengl.csv"))
     upd = read_csv(os.path.join(out, "update.csv"))
     err = read_csv(os.path.join(out, "error.csv"))
+    mpi = read_csv(os.path.join(out, "mpi.csv"))
 
     plot_rays(ctx, rays)
     plot_build(ctx, build)
@@ -846,7 +925,7 @@ def report(ctx, started, elapsed):
         L.append("")
     else:
         L.append("Produced by `%s` on %s in %.0f s; sources: %s.\n" % (
-            " ".join(shlex.quote(a) for a in ctx.argv), started, elapsed, ctx.git))
+            ctx.runner.mask(" ".join(shlex.quote(a) for a in ctx.argv)), started, elapsed, ctx.git))
     if ctx.env:
         L.append("Versions: whitted_bench built with %s; Embree %s; %s; VTK %s; Linux %s.\n" % (
             ctx.env.get("compiler", "?"), ctx.env.get("embree", "?"), ctx.env.get("povray", "POV-Ray ?"),
@@ -1080,6 +1159,41 @@ def report(ctx, started, elapsed):
         L.append(commands_block(ctx, "update"))
         L.append("\n![update](update.png)\n")
 
+    # MPI
+    if mpi:
+        r0 = min(mpi, key=lambda r: r["ranks"])  # one rank: the triangle count without ghost cells
+        L.append("\n## ParaView view under MPI (pvbatch)\n")
+        L.append("The Whitted Ray Trace view in `pvbatch` (`testing/paraview/bench_still.py`): the wavelet contoured to "
+                 "%d triangles as Whitted Surface (reflectance 0.2) with ParaView's light kit and shadows, %dx%d. "
+                 "Under MPI the geometry is replicated to every rank and the image split between ranks (IceT "
+                 "composites by depth). Still frame = Render() wall time on rank 0 after a 2-degree camera turn, "
+                 "median of %d frames, then median over %d repetitions run alternately with the other "
+                 "configurations; first frame = delivery + conversion + BVH build + trace. CPU time per frame is "
+                 "read from /proc for every rank.\n" % (r0["triangles"], r0["width"], r0["height"],
+                                                          ctx.cfg["mpi_frames"], max(r["rep"] for r in mpi) + 1))
+        med = {}
+        tab = []
+        for ranks, threads in dict.fromkeys((r["ranks"], r["threads_per_rank"]) for r in mpi):
+            rs = [r for r in mpi if r["ranks"] == ranks and r["threads_per_rank"] == threads]
+            per_rank = [[float(v) for v in str(r["cpu_seconds_per_rank"]).split()] for r in rs]
+            med[(ranks, threads)] = statistics.median(r["still_seconds"] for r in rs)
+            tab.append(["%d x %d" % (ranks, threads), "%.3f" % med[(ranks, threads)],
+                        "%.2f" % statistics.median(r["first_seconds"] for r in rs),
+                        " + ".join("%.3f" % statistics.median(p[i] for p in per_rank) for i in range(ranks)),
+                        "%.2f" % statistics.median(r["load"] for r in rs)])
+        base = med.get((1, 1))
+        for row, key in zip(tab, med):
+            row.append("%.2f" % (base / med[key]) if base else "")
+        L.append(md_table(["ranks x threads per rank", "still frame s", "first frame s", "CPU s per frame (rank 0 + 1)",
+                           "load average", "speed-up vs 1 x 1"], tab))
+        two = med.get((2, 1))
+        hybrid = [k for k in med if k[0] == 1 and k[1] == 2]
+        if base and two:
+            L.append("\n2 ranks x 1 thread against 1 rank x 1 thread: **%.2fx**%s.\n" % (
+                base / two, "; against 1 rank x 2 threads (the same cores, threads instead of ranks): %.2fx" % (
+                    med[hybrid[0]] / two) if hybrid else ""))
+        L.append(commands_block(ctx, "mpi"))
+
     # Error
     if err:
         L.append("\n## Error against run time\n")
@@ -1175,6 +1289,10 @@ def main():
     ap.add_argument("--sections", default=",".join(SECTIONS), help="subset of " + ",".join(SECTIONS))
     ap.add_argument("--whitted-pythonpath", default="", help="folder holding the `whitted` Python package")
     ap.add_argument("--report-only", action="store_true", help="rebuild report and plots from existing CSVs")
+    ap.add_argument("--paraview-plugin", default="", help="WhittedView plugin for the mpi section "
+                    "(default: found in ../paraview next to --build-dir)")
+    ap.add_argument("--pv-pythonpath", default="", help="folder holding ParaView's `paraview` Python package "
+                    "(default: ../pvprefix/usr/lib/python3/dist-packages next to --build-dir)")
     args = ap.parse_args()
 
     t_start = time.perf_counter()
@@ -1208,11 +1326,22 @@ def main():
     except (OSError, subprocess.TimeoutExpired):
         ctx.git = "unknown revision"
     ctx.runner = Runner(ctx.out)
+    build = os.path.abspath(args.build_dir)
+    ctx.runner.placeholders = [(ctx.out, "<out>"), (REPO, "<repo>"), (build, "<build>")]
+    if all(os.path.isdir(os.path.join(os.path.dirname(build), d)) for d in ("paraview", "pvprefix")):
+        ctx.runner.placeholders.append((os.path.dirname(build), "<builds>"))  # ./whitted.sh test's build root
+    if args.bench:
+        ctx.runner.placeholders.append((os.path.abspath(args.bench), "<whitted_bench>"))
     cache = os.path.abspath(args.cache or os.path.join(ctx.out, "cache"))
     os.makedirs(cache, exist_ok=True)
 
-    ctx.bench = find_bench(args, ctx.runner) if not args.report_only else ""
-    ctx.data = ensure_meshes(ctx.cfg["meshes"], cache, ctx.runner, ctx.notes) if not args.report_only else \
+    sections = [s for s in args.sections.split(",") if s]
+    unknown = [s for s in sections if s not in SECTIONS]
+    if unknown:
+        sys.exit("unknown sections: %s (known: %s)" % (", ".join(unknown), ",".join(SECTIONS)))
+    needs_bench = not args.report_only and any(s != "mpi" for s in sections)  # mpi runs ParaView, not whitted_bench
+    ctx.bench = find_bench(args, ctx.runner) if needs_bench else ""
+    ctx.data = ensure_meshes(ctx.cfg["meshes"], cache, ctx.runner, ctx.notes) if needs_bench else \
         ",".join([DATA, cache])
     env_path = os.path.join(ctx.out, "environment.json")
     if ctx.bench:
@@ -1238,7 +1367,6 @@ def main():
     ctx.env = json.load(open(env_path)) if os.path.exists(env_path) else {}
     ctx.embree_version = ctx.env.get("embree", "3")
 
-    sections = [s for s in args.sections.split(",") if s]
     if not args.report_only:
         prov_path = os.path.join(ctx.out, "sections.json")
         prov = json.load(open(prov_path)) if os.path.exists(prov_path) else {}
@@ -1251,7 +1379,7 @@ def main():
                 globals()["section_" + name](ctx)
                 took = time.perf_counter() - t0
                 print("   %s done in %.1f s" % (name, took), flush=True)
-                prov[name] = dict(command=" ".join(shlex.quote(a) for a in ctx.argv), started=when, seconds=took,
+                prov[name] = dict(command=ctx.runner.mask(" ".join(shlex.quote(a) for a in ctx.argv)), started=when, seconds=took,
                                   load=load, sources=ctx.git, commands=ctx.runner.by_section.get(name, []))
                 with open(prov_path, "w") as f:
                     json.dump(prov, f, indent=1)
@@ -1274,7 +1402,8 @@ def main():
                "pov": ["pov.csv", "pov_compare.png"] if shutil.which("povray") else [],
                "vtk": ["frames.csv"] + (["vtk_opengl.csv", "vtk_compare.png"] if shutil.which("xvfb-run") and have_vtk() else []),
                "scaling": ["frames.csv", "scaling.png"], "update": ["update.csv", "update.png"],
-               "error": ["error.csv", "error_estimate.png"] + ["error_%s.png" % s for s in ctx.cfg["error_scenes"]]}
+               "error": ["error.csv", "error_estimate.png"] + ["error_%s.png" % s for s in ctx.cfg["error_scenes"]],
+               "mpi": ["mpi.csv"] if mpi_tools(ctx) else []}
         for name in sections:
             expect += per.get(name, [])
     missing = [f for f in expect if not os.path.exists(os.path.join(ctx.out, f))]
