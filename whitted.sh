@@ -149,7 +149,7 @@ cmd_test() {
   for suite in vtk asan asan-python tsan fuzz paraview; do
     [ -f "$BUILD/test-$suite.log" ] || continue
     log "suite $suite"
-    grep -E "tests passed|tests failed|\*\*\*Failed|Failed  |Timeout|Not Run|Exception" "$BUILD/test-$suite.log" || true
+    grep -E "tests passed|tests failed|\*\*\*Failed|Failed  |Timeout|Not Run|\*\*\*Exception" "$BUILD/test-$suite.log" || true
   done
   # One closing line over all suites
   local passed=0 failed=0 line
