@@ -217,27 +217,47 @@ class FrameJob {
     supersampled_ += refined;
   }
 
+  // Marks the pixels whose centre sample its neighbours do not predict: on each axis, half the second difference
+  // (the pixel against the mean of its two neighbours; at the image border, against the line through the two
+  // pixels on the inner side) above the threshold, or a neighbour that hits where the pixel misses. A linear ramp
+  // (smooth shading) has no second difference, so only edges, silhouettes, highlights and texture detail are
+  // supersampled.
   void markDisagreements() {
     auto clampC = [](const Color4& c) { return glm::clamp(c, Color4(0.0f), Color4(1.0f)); };
+    auto maxAbs = [](const Color4& d) {
+      return std::max(std::max(std::abs(d.x), std::abs(d.y)), std::max(std::abs(d.z), std::abs(d.w)));
+    };
+    auto traced = [&](int x, int y) { return x >= 0 && y >= 0 && x < w_ && y < h_ && fb_.traced[index(x, y)]; };
     for (int y = 0; y < h_; ++y)
       for (int x = 0; x < w_; ++x) {
-        std::size_t i = std::size_t(y) * w_ + x;
+        const std::size_t i = index(x, y);
         if (!fb_.traced[i]) continue;
-        Color4 c = clampC(fb_.color[i]);
-        const int nb[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
-        for (auto& o : nb) {
-          int nx = x + o[0], ny = y + o[1];
-          if (nx < 0 || ny < 0 || nx >= w_ || ny >= h_) continue;
-          std::size_t j = std::size_t(ny) * w_ + nx;
-          if (!fb_.traced[j]) continue;
-          Color4 d = glm::abs(c - clampC(fb_.color[j]));
-          if (std::max(std::max(d.x, d.y), std::max(d.z, d.w)) > s_.adaptiveThreshold || hitMask_[i] != hitMask_[j]) {
-            marks_[i] = 1;
-            break;
+        const Color4 c = clampC(fb_.color[i]);
+        bool mark = false;
+        for (int axis = 0; axis < 2 && !mark; ++axis) {
+          const int dx = axis == 0 ? 1 : 0, dy = 1 - dx;
+          const bool lo = traced(x - dx, y - dy), hi = traced(x + dx, y + dy);
+          if ((lo && hitMask_[index(x - dx, y - dy)] != hitMask_[i]) ||
+              (hi && hitMask_[index(x + dx, y + dy)] != hitMask_[i])) {
+            mark = true;
+          } else if (lo && hi) {
+            const Color4 mean =
+                0.5f * (clampC(fb_.color[index(x - dx, y - dy)]) + clampC(fb_.color[index(x + dx, y + dy)]));
+            mark = maxAbs(c - mean) > s_.adaptiveThreshold;
+          } else if (lo || hi) {
+            const int s = hi ? 1 : -1;
+            const Color4 n1 = clampC(fb_.color[index(x + s * dx, y + s * dy)]);
+            const Color4 predicted = traced(x + 2 * s * dx, y + 2 * s * dy)
+                                         ? 2.0f * n1 - clampC(fb_.color[index(x + 2 * s * dx, y + 2 * s * dy)])
+                                         : n1;
+            mark = 0.5f * maxAbs(c - predicted) > s_.adaptiveThreshold;
           }
         }
+        marks_[i] = mark ? 1 : 0;
       }
   }
+
+  std::size_t index(int x, int y) const { return std::size_t(y) * w_ + x; }
 
   const Scene& scene_;
   const Camera& camera_;

@@ -24,9 +24,11 @@ struct RenderSettings {
   IntegratorSettings integrator;
   int samplesPerPixel = 1;  ///< Stratified samples per pixel; 1 = the pixel centre. Default 1.
   bool adaptive = false;    ///< Centre sample first, full samples only where neighbours differ. Default off.
-  float adaptiveThreshold = 2.0f / 255.0f;  ///< Neighbour difference (max channel) that triggers supersampling.
-  int threads = 0;                          ///< Worker threads; 0 = hardwareThreads() (all usable cores). Default 0.
-  int tileSize = 16;                        ///< Tile edge in pixels. Default 16.
+  /// Supersampling trigger (adaptive): a pixel's centre sample differs from the mean of its two neighbours on an
+  /// axis by more than this (max channel), or a neighbour hits where it misses.
+  float adaptiveThreshold = 2.0f / 255.0f;
+  int threads = 0;    ///< Worker threads; 0 = hardwareThreads() (all usable cores). Default 0.
+  int tileSize = 16;  ///< Tile edge in pixels. Default 16.
   /// Pixel split between processes: this process traces tiles with index % tileStride == tileOffset, and writes
   /// depth 1 / alpha 0 elsewhere (for sort-last compositing). Default 1/0 = everything.
   int tileStride = 1;

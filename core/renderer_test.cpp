@@ -105,6 +105,32 @@ TEST(Renderer, AdaptiveSamplesOnlyWhereNeighboursDiffer) {
   EXPECT_LT(err / double(a.color.size()), 0.01);
 }
 
+// A linear colour ramp (per-vertex colours across a plane facing the camera, constant lighting) changes by more
+// than the threshold from pixel to pixel but has no second difference: adaptive sampling leaves it alone.
+TEST(Renderer, AdaptiveLeavesSmoothRampsAlone) {
+  Scene scene;
+  TriangleMesh m;
+  m.positions = {Vec3(-2, -2, 0), Vec3(2, -2, 0), Vec3(2, 2, 0), Vec3(-2, 2, 0)};
+  m.triangles = {glm::uvec3(0, 1, 2), glm::uvec3(0, 2, 3)};
+  m.vertexColors = {Color4(0, 0, 0, 1), Color4(1, 0.5f, 0, 1), Color4(1, 0.5f, 0, 1), Color4(0, 0, 0, 1)};
+  Material mat;
+  mat.colorSource = ColorSource::ScalarsAmbientAndDiffuse;
+  scene.addInstance(scene.addMesh(m), Mat4(1.0), scene.addMaterial(mat));
+  Light sun;  // directional, along -z: the same N.L everywhere
+  scene.lights().push_back(sun);
+  scene.commit();
+  Camera cam = Camera::perspective(Vec3(0, 0, 5), Vec3(0), Vec3(0, 1, 0), 40.0, 1.0, 0.1, 20.0);
+  RenderSettings rs;
+  rs.samplesPerPixel = 4;
+  rs.adaptive = true;
+  FrameBuffer fb;
+  FrameStats fs = render(scene, cam, rs, 64, 64, fb);
+  const float step = fb.color[32 * 64 + 33].x - fb.color[32 * 64 + 32].x;
+  EXPECT_GT(step, rs.adaptiveThreshold);  // a first-difference criterion would refine every pixel
+  EXPECT_EQ(fs.pixelsSupersampled, 0u);
+  EXPECT_EQ(fs.samples, 64u * 64u);
+}
+
 // Two processes each tracing every other tile assemble, by depth, exactly the single-process image.
 TEST(Renderer, ImageSplitComposesToFullImage) {
   Classic c;

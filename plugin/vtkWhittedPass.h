@@ -83,7 +83,9 @@ public:
   ///@{
   /**
    * Adaptive anti-aliasing: trace one sample per pixel first and SamplesPerPixel samples only where
-   * neighbouring pixels differ. Has no effect when SamplesPerPixel is 1. Default is off.
+   * the neighbouring pixels do not predict a pixel (edges, silhouettes, highlights, texture detail;
+   * not smooth shading, which varies linearly). Has no effect when SamplesPerPixel is 1. Default is
+   * off.
    */
   vtkSetMacro(AdaptiveSampling, bool);
   vtkGetMacro(AdaptiveSampling, bool);

@@ -1257,6 +1257,14 @@ def report(ctx, started, elapsed):
         L.append(md_table(["scene", "sampling", "settings", "estimate / measured (min / median / max)",
                            "underestimates (RMS)", "underestimates (max pixel)",
                            "estimate < RMSE vs reference"], tab))
+        fixed = [r for r in err if not r["is_reference"] and not r["adaptive"]]
+        L.append("\nThe test of the bound is the fixed-sampling rows: %d settings, %d underestimates of the RMS, %d of the "
+                 "largest pixel. With adaptive sampling the comparison is not exact: which pixels get supersampled "
+                 "depends on the first-pass image, hence on depth and threshold, so a render and its depth-%d twin "
+                 "refine different pixels and their difference includes sampling error the estimate does not "
+                 "claim to cover.\n" % (
+                     len(fixed), sum(1 for r in fixed if r["est_rms"] < r["trunc_rms"] - 1e-7),
+                     sum(1 for r in fixed if r["est_max"] < r["trunc_max"] - 1e-7), ctx.cfg["error_ref_depth"]))
         L.append("\n![estimate](error_estimate.png)\n")
 
     # Headline first
@@ -1334,6 +1342,7 @@ def main():
         ctx.runner.placeholders.append((os.path.abspath(args.bench), "<whitted_bench>"))
     cache = os.path.abspath(args.cache or os.path.join(ctx.out, "cache"))
     os.makedirs(cache, exist_ok=True)
+    ctx.runner.placeholders.append((cache, "<cache>"))
 
     sections = [s for s in args.sections.split(",") if s]
     unknown = [s for s in sections if s not in SECTIONS]
