@@ -2,6 +2,7 @@
 // image split between processes, abort, camera round trips.
 #include "renderer.h"
 #include "image.h"
+#include "report.h"
 #include "scenes.h"
 
 #include <gtest/gtest.h>
@@ -9,6 +10,7 @@
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -241,8 +243,13 @@ TEST(Renderer, AllCoresMeansTheAffinityMask) {
   CPU_SET(first, &one);
   ASSERT_EQ(sched_setaffinity(0, sizeof one, &one), 0);
   const int bound = hardwareThreads();
+  const std::string report = frameReport(FrameStats(), SceneStats(), CommitStats(), 8, 8, 0.0, nullptr);
   ASSERT_EQ(sched_setaffinity(0, sizeof saved, &saved), 0);
   EXPECT_EQ(bound, 1);
+  if (std::thread::hardware_concurrency() > 1) {  // the frame report says why fewer threads than cores are used
+    EXPECT_NE(report.find("CPU affinity: 1 of"), std::string::npos) << report;
+    EXPECT_LT(report.find("CPU affinity"), report.find("\n  time")) << report;
+  }
   EXPECT_EQ(hardwareThreads(), CPU_COUNT(&saved));
 }
 #endif

@@ -1,6 +1,7 @@
 #include "report.h"
 
 #include <cstdio>
+#include <thread>
 
 namespace whitted {
 
@@ -17,6 +18,12 @@ std::string frameReport(const FrameStats& f, const SceneStats& s, const CommitSt
                     w, h, (unsigned long long)f.samples, f.threads, f.aborted ? " (ABORTED)" : "", c.secondsBuild * 1e3,
                     c.objectsRebuilt, c.topLevelRebuilt ? "rebuilt" : "kept", f.secondsTrace * 1e3);
   std::string out(buf, std::size_t(n));
+  // Say when the process may use fewer cores than the machine has (mpirun binds ranks to single cores by default)
+  const int usable = hardwareThreads(), machine = int(std::thread::hardware_concurrency());
+  if (machine > usable) {
+    n = std::snprintf(buf, sizeof buf, " [CPU affinity: %d of %d cores usable]", usable, machine);
+    out.insert(out.find('\n', out.find("image")), buf, std::size_t(n));
+  }
   if (otherLabel) {
     n = std::snprintf(buf, sizeof buf, ", %s %.2f ms", otherLabel, secondsOther * 1e3);
     out.append(buf, std::size_t(n));
