@@ -114,6 +114,7 @@ cmd_test() {
   build_tsan
   build_fuzz
   local status=0
+  local suites=(vtk asan asan-python tsan fuzz paraview)  # one log each: $BUILD/test-<suite>.log
   # Rendering suites under Xvfb, sanitizer suites beside them (2 cores: run the two heavy groups in parallel)
   log "running tests"
   (cd "$BUILD/vtk" && "${XVFB[@]}" ctest -j "$JOBS" --output-on-failure --timeout 900) >"$BUILD/test-vtk.log" 2>&1 &
@@ -146,14 +147,14 @@ cmd_test() {
     (cd "$BUILD/paraview" && "${XVFB[@]}" ctest --output-on-failure --timeout 900) >"$BUILD/test-paraview.log" 2>&1 ||
       status=1
   fi
-  for suite in vtk asan asan-python tsan fuzz paraview; do
+  for suite in "${suites[@]}"; do
     [ -f "$BUILD/test-$suite.log" ] || continue
     log "suite $suite"
     grep -E "tests passed|tests failed|\*\*\*Failed|Failed  |Timeout|Not Run|\*\*\*Exception" "$BUILD/test-$suite.log" || true
   done
   # One closing line over all suites
   local passed=0 failed=0 line
-  for suite in vtk asan asan-python tsan fuzz paraview; do
+  for suite in "${suites[@]}"; do
     [ -f "$BUILD/test-$suite.log" ] || continue
     line=$(grep -E "tests passed, [0-9]+ tests? failed out of [0-9]+" "$BUILD/test-$suite.log" | tail -1) || true
     [ -n "$line" ] || { status=1; log "suite $suite ran no tests"; continue; }
@@ -166,7 +167,7 @@ cmd_test() {
   ((failed == 0)) || status=1
   if [ "$status" -ne 0 ]; then
     log "FAILURES: full logs in $BUILD/test-*.log"
-    for suite in vtk asan asan-python tsan fuzz paraview; do
+    for suite in "${suites[@]}"; do
       [ -f "$BUILD/test-$suite.log" ] && grep -q "tests failed" "$BUILD/test-$suite.log" && tail -80 "$BUILD/test-$suite.log"
     done
   fi

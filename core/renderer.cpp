@@ -107,12 +107,15 @@ class FrameJob {
     const std::size_t total = myTiles_.size();
     std::size_t reported = 0;
     // VTK's abort check and progress must run on the calling (GL) thread
-    auto poll = [&](std::size_t d) {
-      if (s_.abortCheck && s_.abortCheck()) abortFlag = true;
+    auto report = [&](std::size_t d) {
       if (s_.progress && d > reported) {
         reported = d;
         s_.progress(double(d) / double(total));
       }
+    };
+    auto poll = [&](std::size_t d) {
+      if (s_.abortCheck && s_.abortCheck()) abortFlag = true;
+      report(d);
     };
     auto worker = [&](bool mainThread) {
       for (;;) {
@@ -135,8 +138,8 @@ class FrameJob {
       // always reaches 1 and an abort stays responsive even when the workers took every tile.
       while (mainThread && !abortFlag.load()) {
         std::size_t d = done.load();
-        if (d >= total) {
-          if (s_.progress && d > reported) s_.progress(1.0);
+        if (d >= total) {  // complete: no abort check, which could only mark a finished frame as aborted
+          report(d);
           break;
         }
         poll(d);
@@ -182,7 +185,7 @@ class FrameJob {
     uint64_t samples = 0, refined = 0;
     for (int py = y0; py < y1; ++py)
       for (int px = x0; px < x1; ++px) {
-        std::size_t idx = std::size_t(py) * w_ + px;
+        std::size_t idx = index(px, py);
         if (refineOnly && !marks_[idx]) continue;
         Color sum(0.0f);
         float alpha = 0.0f, err = 0.0f, depth = 1.0f;

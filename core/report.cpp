@@ -8,22 +8,21 @@ namespace whitted {
 std::string frameReport(const FrameStats& f, const SceneStats& s, const CommitStats& c, int w, int h,
                         double secondsOther, const char* otherLabel) {
   char buf[2048];
+  // Say when the process may use fewer cores than the machine has (mpirun binds ranks to single cores by default)
+  char affinity[64] = "";
+  const int usable = hardwareThreads(), machine = int(std::thread::hardware_concurrency());
+  if (machine > usable)
+    std::snprintf(affinity, sizeof affinity, " [CPU affinity: %d of %d cores usable]", usable, machine);
   double traced = double(f.rays.traced());
   double mrays = f.secondsTrace > 0.0 ? traced / f.secondsTrace * 1e-6 : 0.0;
-  int n =
-      std::snprintf(buf, sizeof buf,
-                    "Whitted frame report\n"
-                    "  image            %d x %d, %llu samples, %d threads%s\n"
-                    "  time             build %.2f ms (%d object BVHs rebuilt, top level %s), trace %.2f ms",
-                    w, h, (unsigned long long)f.samples, f.threads, f.aborted ? " (ABORTED)" : "", c.secondsBuild * 1e3,
-                    c.objectsRebuilt, c.topLevelRebuilt ? "rebuilt" : "kept", f.secondsTrace * 1e3);
+  int n = std::snprintf(buf, sizeof buf,
+                        "Whitted frame report\n"
+                        "  image            %d x %d, %llu samples, %d threads%s%s\n"
+                        "  time             build %.2f ms (%d object BVHs rebuilt, top level %s), trace %.2f ms",
+                        w, h, (unsigned long long)f.samples, f.threads, affinity, f.aborted ? " (ABORTED)" : "",
+                        c.secondsBuild * 1e3, c.objectsRebuilt, c.topLevelRebuilt ? "rebuilt" : "kept",
+                        f.secondsTrace * 1e3);
   std::string out(buf, std::size_t(n));
-  // Say when the process may use fewer cores than the machine has (mpirun binds ranks to single cores by default)
-  const int usable = hardwareThreads(), machine = int(std::thread::hardware_concurrency());
-  if (machine > usable) {
-    n = std::snprintf(buf, sizeof buf, " [CPU affinity: %d of %d cores usable]", usable, machine);
-    out.insert(out.find('\n', out.find("image")), buf, std::size_t(n));
-  }
   if (otherLabel) {
     n = std::snprintf(buf, sizeof buf, ", %s %.2f ms", otherLabel, secondsOther * 1e3);
     out.append(buf, std::size_t(n));

@@ -121,12 +121,7 @@ void BuildScene(vtkRenderer* ren)
   ren->AddActor(flat);
 
   ren->SetBackground(0.1, 0.15, 0.25);
-  vtkCamera* cam = ren->GetActiveCamera();
-  cam->SetPosition(1.5, 2.5, 6.5);
-  cam->SetFocalPoint(0.0, 0.0, 0.0);
-  cam->SetViewUp(0, 1, 0);
-  cam->SetViewAngle(35);
-  ren->ResetCameraClippingRange();
+  LookAt(ren, { 1.5, 2.5, 6.5 }, { 0.0, 0.0, 0.0 }, 35);
 }
 
 struct Capture

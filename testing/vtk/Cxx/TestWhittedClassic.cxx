@@ -51,12 +51,7 @@ int TestWhittedClassic(int argc, char* argv[])
   AddPointLight(ren, 4.0, 7.0, 3.0);
   ren->SetBackground(0.3, 0.5, 0.85);
 
-  vtkCamera* cam = ren->GetActiveCamera();
-  cam->SetPosition(0.0, 1.8, 4.0);
-  cam->SetFocalPoint(0.0, 0.9, -2.5);
-  cam->SetViewUp(0.0, 1.0, 0.0);
-  cam->SetViewAngle(40.0);
-  ren->ResetCameraClippingRange();
+  LookAt(ren, { 0.0, 1.8, 4.0 }, { 0.0, 0.9, -2.5 }, 40.0);
 
   vtkNew<vtkWhittedPass> pass;
   ren->SetPass(pass);

@@ -37,12 +37,7 @@ vtkSmartPointer<vtkRenderer> MakeViewport(double x0, double y0, vtkLight* light)
   ren->AddActor(box);
   ren->AddLight(light);
   ren->SetBackground(0.15, 0.15, 0.2);
-  vtkCamera* cam = ren->GetActiveCamera();
-  cam->SetPosition(0.5, 3.2, 5.0);
-  cam->SetFocalPoint(0.0, 0.3, 0.0);
-  cam->SetViewUp(0, 1, 0);
-  cam->SetViewAngle(35);
-  ren->ResetCameraClippingRange();
+  LookAt(ren, { 0.5, 3.2, 5.0 }, { 0.0, 0.3, 0.0 }, 35);
   return ren;
 }
 }

@@ -45,25 +45,25 @@ inline vtkSmartPointer<vtkRenderWindow> MakeWindow(int w, int h)
 }
 
 /// A positional scene light shining in every direction (cone 180 degrees) from (x, y, z).
-inline vtkLight* AddPointLight(vtkRenderer* ren, double x, double y, double z)
+inline void AddPointLight(vtkRenderer* ren, double x, double y, double z)
 {
   vtkNew<vtkLight> light;
   light->SetLightTypeToSceneLight();
   light->SetPositional(true);
   light->SetPosition(x, y, z);
   light->SetConeAngle(180.0);
-  ren->AddLight(light); // the renderer keeps it alive
-  return light;
+  ren->AddLight(light);
 }
 
-/// Perspective camera at eye looking at focal point with the given view angle; clipping range
-/// reset.
+/// Perspective camera at eye looking at focal point, +y up, with the given view angle; clipping
+/// range reset.
 inline void LookAt(vtkRenderer* ren, const std::array<double, 3>& eye,
   const std::array<double, 3>& focal, double viewAngle)
 {
   vtkCamera* cam = ren->GetActiveCamera();
   cam->SetPosition(eye.data());
   cam->SetFocalPoint(focal.data());
+  cam->SetViewUp(0.0, 1.0, 0.0);
   cam->SetViewAngle(viewAngle);
   ren->ResetCameraClippingRange();
 }
