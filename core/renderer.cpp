@@ -135,8 +135,10 @@ class FrameJob {
         if (mainThread) poll(d);
       }
       // Out of tiles: the calling thread keeps polling until the workers finish their last tiles, so progress
-      // always reaches 1 and an abort stays responsive even when the workers took every tile.
-      while (mainThread && !abortFlag.load()) {
+      // always reaches 1 and an abort stays responsive even when the workers took every tile. Without callbacks
+      // there is nothing to poll, and the join below waits without the up to 1 ms a polling step adds.
+      const bool callbacks = s_.progress || s_.abortCheck;
+      while (mainThread && callbacks && !abortFlag.load()) {
         std::size_t d = done.load();
         if (d >= total) {  // complete: no abort check, which could only mark a finished frame as aborted
           report(d);
