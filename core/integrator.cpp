@@ -12,6 +12,10 @@ RayStats& RayStats::operator+=(const RayStats& o) {
   savedByThreshold += o.savedByThreshold;
   savedByDepth += o.savedByDepth;
   nodesVisited += o.nodesVisited;
+  nonFiniteSamples += o.nonFiniteSamples;
+  clampedAlpha += o.clampedAlpha;
+  clampedDepth += o.clampedDepth;
+  nonFinitePixels += o.nonFinitePixels;
   return *this;
 }
 
@@ -32,21 +36,42 @@ Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings, c
   kernel_ = table[(reflect_ ? 4 : 0) | (refract_ ? 2 : 0) | (shadows_ ? 1 : 0)];
 }
 
-Sample Integrator::trace(const Ray& ray, RayStats& stats) const {
+Sample Integrator::trace(const Ray& ray, RayStats& stats, const Color& screenBackground) const {
   Sample out;
   ++stats.primary;
   double tHit = kInfinity;
   Vec3 first(0.0);
   PathState ps;
-  out.color = (this->*kernel_)(ray, 0, Color(1.0f), stats, ps, &tHit, &first);
+  ps.screenBackground = screenBackground;
+  out.color = (this->*kernel_)(ray, 0, Color(1.0f), true, stats, ps, &tHit, &first);
   out.hit = std::isfinite(tHit);
-  out.alpha = std::clamp(1.0f - ps.escaped, 0.0f, 1.0f);
   out.firstHit = first;
   out.errorBound = ps.errorBound;
-  // Never let a non-finite value reach a pixel
+
+  // Safety nets, counted so that tests can assert they caught nothing: coverage outside [0, 1] (beyond rounding)
+  // and non-finite values never reach a pixel
+  float alpha = 1.0f - ps.escaped;
+  if (alpha < -1e-5f || alpha > 1.0f + 1e-5f) ++stats.clampedAlpha;
+  out.alpha = std::clamp(alpha, 0.0f, 1.0f);
+  bool finite = std::isfinite(alpha);
   for (int i = 0; i < 3; ++i)
-    if (!std::isfinite(out.color[i])) out.color[i] = 0.0f;
+    if (!std::isfinite(out.color[i])) {
+      out.color[i] = 0.0f;
+      finite = false;
+    }
+  if (!finite) {
+    out.alpha = std::isfinite(alpha) ? out.alpha : 1.0f;
+    ++stats.nonFiniteSamples;
+  }
   return out;
+}
+
+double fresnelDielectric(double cosi, double cost, double eta) {
+  // eta = n_incident / n_transmitted; cosines of the incident and transmitted angles (both >= 0)
+  const double rs = (eta * cosi - cost) / (eta * cosi + cost);
+  const double rp = (eta * cost - cosi) / (eta * cost + cosi);
+  const double f = 0.5 * (rs * rs + rp * rp);
+  return std::isfinite(f) ? std::clamp(f, 0.0, 1.0) : 1.0;  // 0/0 only at exactly grazing incidence: reflects
 }
 
 float Integrator::remainingBound(int depth) const {
@@ -71,7 +96,7 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
   }
   Color amb = m.ambient * ca, dif = m.diffuse * cd, spe = m.specular * m.specularColor;
   if (!m.lighting) return amb + dif;
-  if (inside) amb *= m.transmittance;  // ambient light reaches the inside only through the surface
+  if (inside) amb *= m.transmittance;  // ambient light reaches the inside of a transmissive object only through it
 
   Color diffuse(0.0f), specular(0.0f);
   for (const Light& light : scene_.lights()) {
@@ -111,15 +136,19 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
 }
 
 template <bool Reflect, bool Refract, bool Shadows>
-Color Integrator::radiance(const Ray& ray, int depth, Color weight, RayStats& st, PathState& ps, double* tHit,
-                           Vec3* firstHit) const {
+Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straight, RayStats& st, PathState& ps,
+                           double* tHit, Vec3* firstHit) const {
   Hit hit;
   if (!scene_.intersect(ray, hit, &st.nodesVisited)) {
-    // Escaped: the background contributes in proportion to its alpha; the rest is left to what lies behind
-    // (VTK's cleared background or lower layers), expressed through the pixel's alpha (premultiplied output)
-    float a = scene_.backgroundAlpha;
-    ps.escaped += (weight.x + weight.y + weight.z) / 3.0f * (1.0f - a);
-    return a * scene_.environment(ray.dir, up_);
+    if (straight) {
+      // Along the camera ray's line: what lies behind the pixel on screen. The background contributes in
+      // proportion to its alpha; the rest is left to what is drawn behind, through the pixel's alpha.
+      float a = scene_.backgroundAlpha;
+      ps.escaped += (weight.x + weight.y + weight.z) / 3.0f * (1.0f - a);
+      return a * ps.screenBackground;
+    }
+    // Reflected or bent: the environment in the ray's direction, an opaque colour contribution
+    return scene_.environment(ray.dir, up_);
   }
   if (tHit) *tHit = hit.t;
   SurfacePoint sp = scene_.surface(ray, hit);
@@ -135,23 +164,29 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, RayStats& st
 
   // Local shading, weighted by opacity as VTK blends it
   float opacity = m.opacity * (sp.hasColor && m.colorSource != ColorSource::Material ? sp.color.a : 1.0f);
-  Color local = shadeLocal<Shadows>(sp, m, nf, v, Refract && backFace, st);
+  // Inside-ness is a property of the material, not of the kernel: an opaque back face keeps its ambient term
+  // whether or not the scene holds a transmissive actor elsewhere
+  const bool inside = backFace && maxComponent(m.transmittance) > 0.0f;
+  Color local = shadeLocal<Shadows>(sp, m, nf, v, inside, st);
   if (scene_.features().textures && m.texture >= 0 && sp.hasUV) {
     Color4 tc = scene_.texture(uint32_t(m.texture)).sample(sp.uv.x, sp.uv.y);
     local *= Color(tc);
     opacity *= tc.a;
   }
-  Color result = opacity * local;
+  // VTK's shader writes each surface's colour clamped to [0, 1] before blending it: so does the local term here,
+  // so a translucent surface over a highlight blends exactly as VTK's image does
+  Color result = opacity * glm::clamp(local, Color(0.0f), Color(1.0f));
 
   if constexpr (Reflect || Refract) {
     Color kr = m.reflectance, kt = m.transmittance;
     Ray refracted;
     bool haveRefracted = false;
-    double cosForFresnel = glm::dot(v, nf);
+    bool refractedStraight = false;  // the transmitted ray continues along the incoming line (no interface bend)
 
     if constexpr (Refract) {
       if (maxComponent(kt) > 0.0f) {
         Vec3 tdir = d;
+        refractedStraight = true;
         if (s_.refractions && m.ior != 1.0f) {
           // Snell's law; entering vs exiting from the geometric normal
           bool entering = !backFace;
@@ -159,6 +194,7 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, RayStats& st
           Vec3 n = glm::dot(nf, ngf) > 0.0 ? nf : ngf;
           double cosi = std::min(1.0, std::max(0.0, -glm::dot(d, n)));
           double sin2t = eta * eta * (1.0 - cosi * cosi);
+          refractedStraight = false;
           if (sin2t >= 1.0) {
             kr += kt;  // total internal reflection: the refracted share goes to the reflected ray
             kt = Color(0.0f);
@@ -166,20 +202,20 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, RayStats& st
             double cost = std::sqrt(1.0 - sin2t);
             tdir = eta * d + (eta * cosi - cost) * n;
             if (glm::dot(tdir, ngf) >= 0.0) tdir = eta * d + (eta * glm::dot(-d, ngf) - cost) * ngf;
-            if (!entering) cosForFresnel = cost;
+            if constexpr (Reflect) {
+              if (s_.fresnel) {
+                // Exact unpolarised dielectric Fresnel reflectance: 0 without an interface (IOR 1, not reached
+                // here), ((n-1)/(n+1))^2 at normal incidence, 1 at grazing. Only with a reflected ray to take the
+                // share: with reflections off, nothing is moved and nothing is lost.
+                float f = float(fresnelDielectric(cosi, cost, eta));
+                kr += kt * f;
+                kt *= 1.0f - f;
+              }
+            }
           }
         }
-        if (s_.fresnel && maxComponent(kt) > 0.0f) {
-          // Schlick: part of the transmitted share reflects at grazing angles
-          float r0 = (m.ior - 1.0f) / (m.ior + 1.0f);
-          r0 *= r0;
-          float c = float(std::clamp(cosForFresnel, 0.0, 1.0));
-          float f = r0 + (1.0f - r0) * std::pow(1.0f - c, 5.0f);
-          kr += kt * f;
-          kt *= 1.0f - f;
-        }
         if (maxComponent(kt) > 0.0f) {
-          refracted.dir = glm::normalize(tdir);
+          refracted.dir = refractedStraight ? d : glm::normalize(tdir);
           refracted.origin = offsetRayOrigin(sp.p, sp.pError, sp.ng, refracted.dir);
           haveRefracted = true;
         }
@@ -202,7 +238,8 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, RayStats& st
       }
       ++counter;
       double t = kInfinity;
-      Color c = radiance<Reflect, Refract, Shadows>(r, depth + 1, w, st, ps, &t, nullptr);
+      const bool rayStraight = straight && refractedRay && refractedStraight;
+      Color c = radiance<Reflect, Refract, Shadows>(r, depth + 1, w, rayStraight, st, ps, &t, nullptr);
       if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) {
         // The refracted ray travelled t units inside the medium
         Color a = m.absorption * float(t);

@@ -16,7 +16,9 @@ struct IntegratorSettings {
   bool reflections = true;  ///< Trace mirror rays for kr > 0. Default on.
   bool refractions = true;  ///< Bend transmitted rays by the IOR (off: straight-through transmission). Default on.
   float contributionThreshold = 1.0f / 255.0f;  ///< Rays whose weight falls below this are not traced. Default 1/255.
-  bool fresnel = false;      ///< Schlick Fresnel moves part of kt to kr at grazing angles. Default off.
+  /// Exact (unpolarised) dielectric Fresnel moves part of kt to kr at interfaces with IOR != 1 while refraction and
+  /// reflection are on (with reflection off nothing is moved, so no light is lost). Default off.
+  bool fresnel = false;
   bool beerLambert = false;  ///< Absorb light inside transmissive objects by exp(-absorption * distance). Default off.
   bool headlightShading = false;  ///< VTK light complexity 1 (one headlight): specular = pow(N.L, power).
   /// VTK computes the specular view vector from the camera position even for parallel projection; set this (and
@@ -31,28 +33,54 @@ struct RayStats {
   uint64_t savedByThreshold = 0;  ///< Secondary rays not traced because their weight was below the threshold.
   uint64_t savedByDepth = 0;      ///< Secondary rays not traced because the depth cap was reached.
   uint64_t nodesVisited = 0;
+  /// Safety net: camera samples whose colour or alpha came out non-finite and were zeroed. Zero for valid input;
+  /// tests assert that, so the net cannot hide a bug.
+  uint64_t nonFiniteSamples = 0;
+  /// Safety net: camera samples whose coverage (1 - escaped weight) fell outside [0, 1] by more than rounding and
+  /// was clamped. Zero for valid input (kr + kt <= 1 bounds the escaped weight).
+  uint64_t clampedAlpha = 0;
+  /// Safety net: pixels whose first-hit depth fell outside [0, 1] (beyond rounding) and was clamped.
+  uint64_t clampedDepth = 0;
+  /// Safety net: pixels (sums of samples) with a non-finite component that was zeroed.
+  uint64_t nonFinitePixels = 0;
   RayStats& operator+=(const RayStats& o);
+  /// Everything the per-sample and per-pixel safety nets caught (0 for valid input).
+  uint64_t safetyNetCatches() const { return nonFiniteSamples + clampedAlpha + clampedDepth + nonFinitePixels; }
   uint64_t traced() const { return primary + shadow + reflection + refraction; }
 };
 
 /// Result of one camera ray.
+///
+/// What escaped rays see (the pixel contract, from tracer to screen):
+/// - A ray that leaves the scene along its camera ray's line (a miss, or a path that only crossed surfaces
+///   without bending: IOR 1 or refraction off) sees what lies *behind the pixel on screen*: the caller's
+///   screen background colour times Scene::backgroundAlpha, and the rest (1 - backgroundAlpha) of its weight is
+///   left to whatever is drawn behind, through alpha. The VTK pass uses backgroundAlpha 0, so VTK's own
+///   background, gradient, textured background, lower layers or parallel compositing show through exactly as
+///   VTK blends translucent geometry.
+/// - Any other escaped ray (mirror-reflected, or refracted through a bending interface) sees the environment in
+///   its direction (Scene::environment): a colour contribution, fully opaque.
 struct Sample {
-  Color color{0.0f};  ///< Linear RGB.
-  /// Coverage: 1 minus the share of the ray's weight that escaped to a background of alpha < 1 (so a miss gets
-  /// the background alpha, an opaque hit 1, a translucent hit less). color is premultiplied by it.
+  Color color{0.0f};  ///< Linear RGB, premultiplied by alpha.
+  /// Coverage: 1 minus the weight (mean over RGB) of straight escapes times (1 - backgroundAlpha). A miss gets
+  /// backgroundAlpha, an opaque hit 1, a translucent hit (IOR 1) 1 - kt.
   float alpha = 0.0f;
   bool hit = false;
   Vec3 firstHit{0.0};       ///< World point of the first hit (for depth).
   float errorBound = 0.0f;  ///< Upper bound on the radiance left out by the depth cap and the threshold.
 };
 
+/// Exact unpolarised Fresnel reflectance of a dielectric interface: eta = n_incident / n_transmitted, cosi and cost
+/// the cosines of the incident and transmitted angles (Snell). Returns a value in [0, 1]; 1 at grazing incidence.
+double fresnelDielectric(double cosi, double cost, double eta);
+
 class Integrator {
  public:
   Integrator(const Scene& scene, const IntegratorSettings& settings, const Vec3& cameraUp);
 
-  /// Traces a camera ray. Misses return the environment in direction ray.dir (callers that want a screen-space
-  /// background replace it).
-  Sample trace(const Ray& ray, RayStats& stats) const;
+  /// Traces a camera ray. screenBackground is the background colour behind this ray's pixel (the solid colour,
+  /// or the vertical gradient at the pixel's row): what straight escapes see (see Sample).
+  Sample trace(const Ray& ray, RayStats& stats, const Color& screenBackground) const;
 
   /// Which optional mechanisms this frame's kernel contains (feature detection result after settings).
   bool usesReflection() const { return reflect_; }
@@ -62,7 +90,7 @@ class Integrator {
  private:
   struct PathState;
   template <bool Reflect, bool Refract, bool Shadows>
-  Color radiance(const Ray& ray, int depth, Color weight, RayStats& st, PathState& ps, double* tHit,
+  Color radiance(const Ray& ray, int depth, Color weight, bool straight, RayStats& st, PathState& ps, double* tHit,
                  Vec3* firstHit) const;
   template <bool Shadows>
   Color shadeLocal(const SurfacePoint& sp, const Material& m, const Vec3& n, const Vec3& v, bool inside,
@@ -72,9 +100,10 @@ class Integrator {
   /// Accumulators of one camera ray's path tree.
   struct PathState {
     float errorBound = 0.0f;  ///< Radiance bound of rays left out.
-    float escaped = 0.0f;     ///< Weight (mean over RGB) that reached a background of alpha < 1, times 1 - alpha.
+    float escaped = 0.0f;     ///< Weight (mean over RGB) of straight escapes, times 1 - backgroundAlpha.
+    Color screenBackground{0.0f};  ///< What straight escapes see (see Sample).
   };
-  using Kernel = Color (Integrator::*)(const Ray&, int, Color, RayStats&, PathState&, double*, Vec3*) const;
+  using Kernel = Color (Integrator::*)(const Ray&, int, Color, bool, RayStats&, PathState&, double*, Vec3*) const;
   const Scene& scene_;
   IntegratorSettings s_;
   Vec3 up_;

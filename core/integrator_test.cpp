@@ -4,6 +4,7 @@
 #include "renderer.h"
 #include "scenes.h"
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 using namespace whitted;
@@ -77,7 +78,7 @@ TEST(Integrator, SlabLateralOffsetMatchesSnell) {
     for (int i = 0; i < 80; ++i) {
       double mid = 0.5 * (lo + hi);
       RayStats st;
-      Sample smp = integ.trace(ray(Vec3(mid, 0, 0.25), dir), st);
+      Sample smp = integ.trace(ray(Vec3(mid, 0, 0.25), dir), st, Color(0.0f));
       (smp.color.x > 0.5f ? hi : lo) = mid;
     }
     return 0.5 * (lo + hi);
@@ -105,7 +106,7 @@ TEST(Integrator, TotalInternalReflectionPastCriticalAngle) {
   for (double delta : {-1e-3, 1e-3}) {
     double a = critical + delta;  // angle from the face normal
     RayStats st;
-    Sample smp = integ.trace(ray(Vec3(0, 0, 0), Vec3(std::sin(a), std::cos(a), 0)), st);
+    Sample smp = integ.trace(ray(Vec3(0, 0, 0), Vec3(std::sin(a), std::cos(a), 0)), st, Color(0.0f));
     if (delta < 0) {
       EXPECT_GT(smp.color.x, 0.99f) << "below critical: refracted out to the red plane";
       EXPECT_LT(smp.color.y, 0.01f);
@@ -175,7 +176,7 @@ TEST(Integrator, ShadowThroughTwoTransmissiveOccluders) {
     Integrator integ(s, IntegratorSettings{}, Vec3(0, 1, 0));
     RayStats st;
     // Look straight down at the floor point under the plates, from between plate 1 and the floor
-    return integ.trace(ray(Vec3(0.01, 1.0, 0.01), Vec3(0, -1, 0)), st).color;
+    return integ.trace(ray(Vec3(0.01, 1.0, 0.01), Vec3(0, -1, 0)), st, Color(0.0f)).color;
   };
   Color open = floorColor(false), shadowed = floorColor(true);
   ASSERT_GT(open.x, 0.5f);
@@ -200,7 +201,7 @@ TEST(Integrator, ContributionCutoffAndDepthCapCountSavedRays) {
     is.contributionThreshold = 0.1f;
     Integrator integ(s, is, Vec3(0, 1, 0));
     RayStats st;
-    Sample smp = integ.trace(ray(Vec3(0, 0, 0), Vec3(0, 0.01, -1)), st);
+    Sample smp = integ.trace(ray(Vec3(0, 0, 0), Vec3(0, 0.01, -1)), st, Color(0.0f));
     if (kr == 0.5f) {
       EXPECT_EQ(st.reflection, 3u);
       EXPECT_EQ(st.savedByThreshold, 1u);
@@ -273,14 +274,14 @@ TEST(Integrator, TranslucentHitOverTransparentBackgroundHasPartialAlpha) {
   s.commit();
   Integrator integ(s, IntegratorSettings{}, Vec3(0, 1, 0));
   RayStats st;
-  Sample smp = integ.trace(ray(Vec3(0, 0, 5), Vec3(0, 0, -1)), st);
+  Sample smp = integ.trace(ray(Vec3(0, 0, 5), Vec3(0, 0, -1)), st, Color(0.0f));
   EXPECT_NEAR(smp.alpha, 0.25f, 1e-6f);
   EXPECT_NEAR(smp.color.x, 0.25f * 0.8f, 1e-6f);
   EXPECT_NEAR(smp.color.z, 0.25f * 0.2f, 1e-6f);  // no background colour mixed in
   s.backgroundAlpha = 1.0f;                       // opaque background: traced through, alpha 1
   s.commit();
   Integrator opaque(s, IntegratorSettings{}, Vec3(0, 1, 0));
-  smp = opaque.trace(ray(Vec3(0, 0, 5), Vec3(0, 0, -1)), st);
+  smp = opaque.trace(ray(Vec3(0, 0, 5), Vec3(0, 0, -1)), st, s.background);
   EXPECT_NEAR(smp.alpha, 1.0f, 1e-6f);
   EXPECT_NEAR(smp.color.z, 0.25f * 0.2f + 0.75f * 1.0f, 1e-6f);
 }
@@ -303,12 +304,12 @@ TEST(Integrator, ViewFromEyeMatchesVtkParallelSpecular) {
   Integrator integ(s, is, Vec3(0, 1, 0));
   RayStats st;
   // A parallel camera ray at x = 1 hits P = (1, 0, 0): R = (0,0,1), V = normalize((0,0,3) - P)
-  Sample smp = integ.trace(ray(Vec3(1, 0, 3), Vec3(0, 0, -1)), st);
+  Sample smp = integ.trace(ray(Vec3(1, 0, 3), Vec3(0, 0, -1)), st, Color(0.0f));
   float expected = float(std::pow(3.0 / std::sqrt(10.0), 10.0));
   EXPECT_NEAR(smp.color.x, expected, 1e-5f);
   is.viewFromEye = false;  // V = -d = (0,0,1): full highlight
   Integrator plain(s, is, Vec3(0, 1, 0));
-  EXPECT_NEAR(plain.trace(ray(Vec3(1, 0, 3), Vec3(0, 0, -1)), st).color.x, 1.0f, 1e-5f);
+  EXPECT_NEAR(plain.trace(ray(Vec3(1, 0, 3), Vec3(0, 0, -1)), st, Color(0.0f)).color.x, 1.0f, 1e-5f);
 }
 
 // InterpolateScalarsBeforeMapping: the interpolated coordinate is looked up (nearest) in the colour map before
@@ -329,8 +330,115 @@ TEST(Integrator, ColorMapLookupBeforeLighting) {
   Integrator integ(s, IntegratorSettings{}, Vec3(0, 1, 0));
   RayStats st;
   // x = -0.9 -> coordinate 0.05 -> texel 0 (red); x = 0.3 -> 0.65 -> texel 2 (blue)
-  Color a = integ.trace(ray(Vec3(-0.9, 0, 1), Vec3(0, 0, -1)), st).color;
-  Color b = integ.trace(ray(Vec3(0.3, 0, 1), Vec3(0, 0, -1)), st).color;
+  Color a = integ.trace(ray(Vec3(-0.9, 0, 1), Vec3(0, 0, -1)), st, Color(0.0f)).color;
+  Color b = integ.trace(ray(Vec3(0.3, 0, 1), Vec3(0, 0, -1)), st, Color(0.0f)).color;
   EXPECT_EQ(a, Color(1, 0, 0));
   EXPECT_EQ(b, Color(0, 0, 1));
+}
+
+// Back faces of an opaque actor keep their ambient term whether or not an unrelated transmissive actor exists
+// (it used to depend on the kernel: with any kt > 0 in the scene, opaque back faces lost their ambient light).
+TEST(Integrator, OpaqueSceneUnchangedByUnrelatedTransmissiveActor) {
+  auto image = [](bool withGlass) {
+    Scene s;
+    Material m;
+    m.ambient = 0.3f;
+    m.diffuseColor = Color(0.8f, 0.6f, 0.4f);
+    // A quad seen from its back, and a box seen from outside
+    addObject(s, makeGrid(Vec3(-2, -2, 0), Vec3(0, 4, 0), Vec3(4, 0, 0), 1, 1), m);
+    addObject(s, boxMesh(Vec3(-0.5, -0.5, 0.5), Vec3(0.5, 0.5, 1.0)), m);
+    if (withGlass)  // far behind the camera, out of every ray's and light's way
+      addObject(s, boxMesh(Vec3(-1, -1, 100), Vec3(1, 1, 102)), glassMaterial(1.5f, Color(0.9f)));
+    Light l;
+    l.position = Vec3(0.3, 0.2, 1.0);
+    s.lights().push_back(l);
+    s.commit();
+    Integrator integ(s, IntegratorSettings{}, Vec3(0, 1, 0));
+    std::vector<Color> out;
+    RayStats st;
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x)
+        out.push_back(integ.trace(ray(Vec3(0, 0, 5), Vec3((x - 7.5) / 20.0, (y - 7.5) / 20.0, -1)), st,
+                                  Color(0.0f))
+                          .color);
+    EXPECT_EQ(st.safetyNetCatches(), 0u);
+    return out;
+  };
+  const std::vector<Color> without = image(false), with = image(true);
+  ASSERT_EQ(without.size(), with.size());
+  for (std::size_t i = 0; i < with.size(); ++i) EXPECT_EQ(with[i], without[i]) << "pixel " << i;
+  EXPECT_GT(without[0].x, 0.3f * 0.8f * 0.99f);  // the back face has its ambient term (0.3 x 0.8) at least
+}
+
+// Exact Fresnel against the analytic values: ((n-1)/(n+1))^2 at normal incidence, 1 at grazing, 0 without an
+// interface (IOR 1) at every angle, symmetric inside/outside at corresponding angles.
+TEST(Integrator, FresnelMatchesAnalyticValues) {
+  for (double n : {1.33, 1.5, 2.4}) {
+    const double r0 = (n - 1) / (n + 1) * (n - 1) / (n + 1);
+    EXPECT_NEAR(fresnelDielectric(1.0, 1.0, 1.0 / n), r0, 1e-12);
+    EXPECT_NEAR(fresnelDielectric(1.0, 1.0, n), r0, 1e-12);
+    const double cosi = 1e-9, sint = std::sqrt(1.0 - cosi * cosi) / n;
+    EXPECT_GT(fresnelDielectric(cosi, std::sqrt(1.0 - sint * sint), 1.0 / n), 0.999999);
+    // Entering at theta_i and leaving at the corresponding inner angle reflect the same share
+    const double ci = std::cos(0.7), ct = std::sqrt(1.0 - std::sin(0.7) * std::sin(0.7) / (n * n));
+    EXPECT_NEAR(fresnelDielectric(ci, ct, 1.0 / n), fresnelDielectric(ct, ci, n), 1e-12);
+  }
+  for (double c : {1.0, 0.5, 0.1, 1e-6}) EXPECT_EQ(fresnelDielectric(c, c, 1.0), 0.0);
+}
+
+// Fresnel in the integrator: a glass half-space (n = 1.5, kt = 1) over a black floor seen at normal incidence
+// against a white background reflects exactly r0 of the background; at IOR 1 nothing at any angle; with
+// reflections off the Fresnel share is not moved to a ray that is not traced, so nothing is lost.
+TEST(Integrator, FresnelShareInTheImage) {
+  auto traceAt = [](float ior, double angle, bool reflections) {
+    Scene s;
+    addObject(s, boxMesh(Vec3(-1e3, -1e3, -1e3), Vec3(1e3, 1e3, 0)), glassMaterial(ior));
+    s.background = Color(1.0f);
+    s.commit();
+    IntegratorSettings is;
+    is.fresnel = true;
+    is.reflections = reflections;
+    is.contributionThreshold = 0.0f;
+    Integrator integ(s, is, Vec3(0, 1, 0));
+    RayStats st;
+      Sample smp = integ.trace(ray(Vec3(0, 0, 1), Vec3(std::sin(angle), 0, -std::cos(angle))), st, Color(1.0f));
+    return std::make_pair(smp, st);
+  };
+  auto [normal, st] = traceAt(1.5f, 0.0, true);
+  EXPECT_GE(st.reflection, 1u);
+  // Everything (reflected + transmitted) ends at the white background: energy is conserved exactly
+  EXPECT_NEAR(normal.color.x, 1.0f, 1e-5f);
+  auto [iorOne, st1] = traceAt(1.0f, 1.4, true);
+  EXPECT_EQ(st1.reflection, 0u) << "IOR 1: no interface, no reflected ray";
+  EXPECT_NEAR(iorOne.color.x, 1.0f, 1e-6f);
+  auto [noRefl, st2] = traceAt(1.5f, 0.0, false);
+  EXPECT_EQ(st2.reflection, 0u);
+  EXPECT_NEAR(noRefl.color.x, 1.0f, 1e-5f) << "reflections off: the Fresnel share must not be lost";
+}
+
+// What escaped rays see: a straight escape (miss, or through an IOR-1 surface) sees the screen background
+// behind its pixel, through alpha when backgroundAlpha is 0; a mirrored ray sees the environment in its
+// direction (gradient by elevation along the view-up) as an opaque colour.
+TEST(Integrator, EscapedRaysSeeScreenBackgroundOrEnvironment) {
+  Scene s;
+  Material mirror;
+  mirror.diffuse = 0.0f;
+  mirror.reflectance = Color(1.0f);
+  // A mirror facing +z, tilted so that rays from +z reflect straight up (+y)
+  Mat4 tilt = glm::rotate(Mat4(1.0), glm::radians(-45.0), Vec3(1, 0, 0));
+  addObject(s, makeGrid(Vec3(-1, -1, 0), Vec3(2, 0, 0), Vec3(0, 2, 0), 1, 1), mirror, tilt);
+  s.background = Color(0.1f, 0.2f, 0.3f);
+  s.background2 = Color(0.9f, 0.8f, 0.7f);
+  s.gradientBackground = true;
+  s.backgroundAlpha = 0.0f;
+  s.commit();
+  Integrator integ(s, IntegratorSettings{}, Vec3(0, 1, 0));
+  RayStats st;
+  Sample up = integ.trace(ray(Vec3(0, 0, 5), Vec3(0, 0, -1)), st, Color(0.5f));
+  EXPECT_NEAR(up.alpha, 1.0f, 1e-6f);
+  EXPECT_NEAR(up.color.x, 0.9f, 1e-5f) << "reflected straight up: the top colour";
+  Sample miss = integ.trace(ray(Vec3(0, 0, 5), Vec3(1, 0, 0)), st, Color(0.5f));
+  EXPECT_EQ(miss.alpha, 0.0f);
+  EXPECT_EQ(miss.color, Color(0.0f)) << "a miss leaves the screen background to what is drawn behind";
+  EXPECT_EQ(st.safetyNetCatches(), 0u);
 }

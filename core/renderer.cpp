@@ -173,9 +173,10 @@ class FrameJob {
     return Vec2(px + (cx + jx) / nx, py + (cy + jy) / ny);
   }
 
-  Color missColor(int py) const {
-    if (s_.screenGradient && scene_.gradientBackground)
-      return glm::mix(scene_.background, scene_.background2, float((py + 0.5) / h_));
+  // The background behind a pixel row, as VTK draws it: solid, or a vertical gradient from the bottom colour to
+  // the top colour across the viewport
+  Color screenBackground(int py) const {
+    if (scene_.gradientBackground) return glm::mix(scene_.background, scene_.background2, float((py + 0.5) / h_));
     return scene_.background;
   }
 
@@ -185,7 +186,8 @@ class FrameJob {
     int x1 = std::min(w_, x0 + ts_), y1 = std::min(h_, y0 + ts_);
     RayStats& st = tileStats_[tileSlot];
     uint64_t samples = 0, refined = 0;
-    for (int py = y0; py < y1; ++py)
+    for (int py = y0; py < y1; ++py) {
+      const Color rowBackground = screenBackground(py);
       for (int px = x0; px < x1; ++px) {
         std::size_t idx = index(px, py);
         if (refineOnly && !marks_[idx]) continue;
@@ -195,13 +197,13 @@ class FrameJob {
         for (int s = 0; s < n; ++s) {
           Vec2 p = samplePos(px, py, s, n);
           Ray r = camera_.rayPixel(p.x, p.y, w_, h_);
-          Sample smp = integ_.trace(r, st);
+          Sample smp = integ_.trace(r, st, rowBackground);
+          sum += smp.color;  // premultiplied; a miss carries backgroundAlpha x the screen background
           if (smp.hit) {
             anyHit = true;
-            depth = std::min(depth, float(std::clamp(camera_.glDepth(smp.firstHit), 0.0, 1.0)));
-            sum += smp.color;
-          } else {
-            sum += scene_.backgroundAlpha * missColor(py);  // premultiplied
+            const double z = camera_.glDepth(smp.firstHit);
+            if (!(z >= -1e-6 && z <= 1.0 + 1e-6)) ++st.clampedDepth;  // safety net, counted
+            depth = std::min(depth, float(std::clamp(std::isfinite(z) ? z : 1.0, 0.0, 1.0)));
           }
           alpha += smp.alpha;
           err += smp.errorBound;
@@ -210,14 +212,20 @@ class FrameJob {
         if (refineOnly) ++refined;
         float inv = 1.0f / float(n);
         Color4 out(sum * inv, alpha * inv);
+        bool finite = true;
         for (int k = 0; k < 4; ++k)
-          if (!std::isfinite(out[k])) out[k] = 0.0f;  // last line of defence: never a non-finite pixel
+          if (!std::isfinite(out[k])) {  // last line of defence: never a non-finite pixel (counted)
+            out[k] = 0.0f;
+            finite = false;
+          }
+        if (!finite) ++st.nonFinitePixels;
         fb_.color[idx] = out;
         fb_.depth[idx] = depth;
         fb_.traced[idx] = 1;
         error_[idx] = std::min(1.0f, err * inv);
         hitMask_[idx] = anyHit ? 1 : 0;
       }
+    }
     samples_ += samples;
     supersampled_ += refined;
   }

@@ -33,7 +33,6 @@ struct RenderSettings {
   /// depth 1 / alpha 0 elsewhere (for sort-last compositing). Default 1/0 = everything.
   int tileStride = 1;
   int tileOffset = 0;
-  bool screenGradient = true;  ///< Primary misses get the background as a vertical screen-space gradient.
   /// Called on the calling thread between tiles; return true to abort the frame. May be empty.
   std::function<bool()> abortCheck;
   /// Called on the calling thread with the fraction done. May be empty.

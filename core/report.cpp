@@ -42,6 +42,14 @@ std::string frameReport(const FrameStats& f, const SceneStats& s, const CommitSt
       f.kernelShadows ? "on" : "off", s.triangles, s.spheres, s.capsules, s.objects, s.instances, c.invalidPrimitives,
       s.bvhNodes, s.bvhBytes / 1048576.0, s.geometryBytes / 1048576.0, f.errorEstimateRms, f.errorEstimateMax);
   out.append(buf, std::size_t(n));
+  // Safety nets: what they caught is counted, never silently hidden (all zero for valid input)
+  n = std::snprintf(buf, sizeof buf,
+                    "  safety nets      %llu non-finite samples, %llu non-finite pixels, %llu alpha and %llu depth "
+                    "values clamped; scene input fixed: %zu materials, %zu lights\n",
+                    (unsigned long long)f.rays.nonFiniteSamples, (unsigned long long)f.rays.nonFinitePixels,
+                    (unsigned long long)f.rays.clampedAlpha, (unsigned long long)f.rays.clampedDepth,
+                    c.invalidMaterials, c.invalidLights);
+  out.append(buf, std::size_t(n));
   return out;
 }
 

@@ -17,6 +17,27 @@ namespace whitted {
 
 enum class GeometryType : uint8_t { Triangles, Spheres, Capsules };
 
+/// An image around the scene, sampled by direction: what reflected and bent rays see when they leave the scene
+/// (VTK's vtkSkybox / vtkRenderer::SetEnvironmentTexture, ParaView's Skybox background; or the screen-space
+/// textured background seen as a backdrop). Texture ids index Scene textures; rows bottom to top.
+struct EnvironmentMap {
+  enum class Projection : uint8_t {
+    None,    ///< No image: the background colour (or vertical gradient by elevation) is the environment.
+    Sphere,  ///< Equirectangular image (VTK's vtkSkybox Sphere projection and equirectangular IBL textures).
+    Cube,    ///< Six faces, +X, -X, +Y, -Y, +Z, -Z in VTK's input order, OpenGL cube-map face orientation.
+    Screen,  ///< A screen-space backdrop (VTK's textured background) seen along the direction's projection.
+  };
+  Projection projection = Projection::None;
+  int32_t faces[6] = {-1, -1, -1, -1, -1, -1};  ///< Sphere and Screen use faces[0].
+  /// Sphere: orthonormal frame of the image. A direction d maps to u = atan2(d.right, d.front) / 2pi + 0.5,
+  /// v = atan2(d.up, |(d.right, d.front)|) / pi + 0.5 (vtkSkybox's shader: front = up x right).
+  /// Cube: (right, up, -front) is the frame of the cube-map lookup (defaults give the world direction).
+  Vec3 right{1.0, 0.0, 0.0}, up{0.0, 1.0, 0.0}, front{0.0, 0.0, -1.0};
+  /// Screen: the camera's world -> clip matrix, view direction and up (set per frame).
+  Mat4 worldToClip{1.0};
+  Vec3 viewDirection{0.0, 0.0, -1.0}, viewUp{0.0, 1.0, 0.0};
+};
+
 /// What the committed scene contains; the integrator leaves out every mechanism whose flag is false.
 struct Features {
   bool reflective = false;    ///< Some visible material has kr > 0.
@@ -112,7 +133,11 @@ class Scene {
   Color background2{0.0f};  ///< Top colour of a vertical gradient background.
   bool gradientBackground = false;
   float backgroundAlpha = 1.0f;  ///< Alpha written for misses (0 for layered or parallel compositing).
-  /// Background seen by a ray leaving the scene in direction d (gradient along the camera's up).
+  /// Environment image for directional escapes (see EnvironmentMap). Default none.
+  EnvironmentMap environmentMap;
+  /// What a reflected or bent ray leaving the scene in direction d sees: the environment image when there is
+  /// one (and its textures exist), else the background colour, or for a gradient background the mix of bottom
+  /// and top colours by elevation 0.5 (1 + d.up) along the camera's view-up.
   Color environment(const Vec3& d, const Vec3& up) const;
 
   // Commit and queries ------------------------------------------------------------------------------------

@@ -22,29 +22,6 @@ vtkWhittedCompositor::~vtkWhittedCompositor()
 }
 
 //------------------------------------------------------------------------------
-void vtkWhittedCompositor::Premultiply(
-  whitted::FrameBuffer& fb, const double bottom[3], const double top[3], bool gradient)
-{
-  const whitted::Color b(bottom[0], bottom[1], bottom[2]);
-  const whitted::Color t(top[0], top[1], top[2]);
-  for (int y = 0; y < fb.height; ++y)
-  {
-    // The same screen-space background the core mixes into missed samples
-    const whitted::Color bg = gradient ? glm::mix(b, t, float((y + 0.5) / fb.height)) : b;
-    whitted::Color4* row = fb.color.data() + static_cast<size_t>(y) * fb.width;
-    for (int x = 0; x < fb.width; ++x)
-    {
-      const float a = row[x].a;
-      if (a > 0.0f && a < 1.0f)
-      {
-        const whitted::Color c = whitted::Color(row[x]) - (1.0f - a) * bg;
-        row[x] = whitted::Color4(glm::max(c, whitted::Color(0.0f)), a);
-      }
-    }
-  }
-}
-
-//------------------------------------------------------------------------------
 bool vtkWhittedCompositor::Draw(vtkOpenGLRenderWindow* win, const whitted::FrameBuffer& fb, int x,
   int y, int width, int height)
 {

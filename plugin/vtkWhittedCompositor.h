@@ -35,14 +35,6 @@ public:
   vtkWhittedCompositor& operator=(const vtkWhittedCompositor&) = delete;
 
   /**
-   * Turns the colours of partly covered pixels (0 < alpha < 1, only with several samples per pixel)
-   * into premultiplied colour by removing the background the tracer mixed in: bottom/top are the
-   * background colours, gradient tells whether the background is a vertical gradient.
-   */
-  static void Premultiply(
-    whitted::FrameBuffer& fb, const double bottom[3], const double top[3], bool gradient);
-
-  /**
    * Draws fb (premultiplied) into the viewport (x, y, width, height) of the current framebuffer,
    * stretched (nearest neighbour) if fb is smaller. Returns false if the shader could not be built.
    */

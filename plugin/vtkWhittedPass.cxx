@@ -318,14 +318,8 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
   whitted::Scene& scene = *scenePtr;
 
   // Composite colour + depth, then VTK's OpenGL stages for the props left to it
+  // The tracer's image is premultiplied RGBA at every sample count: drawn as it is
   const auto compositeStart = std::chrono::steady_clock::now();
-  double bottom[3], top[3];
-  ren->GetBackground(bottom);
-  ren->GetBackground2(top);
-  if (this->SamplesPerPixel > 1)
-  {
-    vtkWhittedCompositor::Premultiply(in->Frame, bottom, top, ren->GetGradientBackground());
-  }
   if (!in->Compositor.Draw(win, in->Frame, x, y, width, height))
   {
     vtkErrorMacro("Could not build the compositing shader.");
@@ -370,6 +364,8 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
   this->LastNumberOfOpenGLProps = static_cast<int>(conv.OpenGLProps.size());
   this->LastFrameAborted = frame.aborted;
   this->LastFrameFailed = false;
+  this->LastNumberOfSafetyNetCatches =
+    frame.rays.safetyNetCatches() + commit.invalidMaterials + commit.invalidLights;
 
   this->LastFrameReport = whitted::frameReport(
     frame, sstats, commit, traceWidth, traceHeight, this->LastConversionTime, "conversion");
@@ -409,6 +405,7 @@ void vtkWhittedPass::FailFrame(vtkWhittedSceneConverter* converter, const char* 
   this->LastSize[0] = this->LastSize[1] = 0;
   this->LastNumberOfGeometriesConverted = this->LastNumberOfObjectsRebuilt = 0;
   this->LastTopLevelRebuilt = false;
+  this->LastNumberOfSafetyNetCatches = 0;
   this->LastNumberOfTracedActors = this->LastNumberOfOpenGLProps = 0;
   this->LastFrameReport = std::string("frame failed: ") + what + "\n";
   this->InvokeEvent(vtkCommand::EndEvent);

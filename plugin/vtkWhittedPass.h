@@ -237,6 +237,14 @@ public:
   ///@}
 
   /**
+   * Safety nets of the last frame: camera samples and pixels with a non-finite value that was
+   * zeroed, and alpha or depth values outside [0, 1] that were clamped (each counted once), plus
+   * materials and lights whose input values had to be fixed at the last commit. Zero for valid
+   * input: tests assert it, so a net cannot hide a bug. The frame report lists them one by one.
+   */
+  vtkGetMacro(LastNumberOfSafetyNetCatches, vtkTypeUInt64);
+
+  /**
    * True when the last frame failed: an exception (e.g. std::bad_alloc from the scene
    * conversion, the BVH build or the tracer) was reported with vtkErrorMacro, the frame shows only
    * what vtkCameraPass cleared (the background), and the scene is converted again from scratch at
@@ -301,6 +309,7 @@ protected:
   int LastNumberOfTracedActors = 0;
   int LastNumberOfOpenGLProps = 0;
   bool LastFrameAborted = false;
+  vtkTypeUInt64 LastNumberOfSafetyNetCatches = 0;
   bool LastFrameFailed = false;
   std::string LastFrameReport;
 
