@@ -318,8 +318,19 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
   whitted::Scene& scene = *scenePtr;
 
   // Composite colour + depth, then VTK's OpenGL stages for the props left to it
-  // The tracer's image is premultiplied RGBA at every sample count: drawn as it is
+  // The tracer's image is premultiplied RGBA at every sample count: drawn as it is, over the
+  // environment props (skybox) that OpenGL draws first
   const auto compositeStart = std::chrono::steady_clock::now();
+  int rendered = conv.TracedActors;
+  if (!conv.BackgroundProps.empty())
+  {
+    vtkRenderState bgState(ren);
+    bgState.SetPropArrayAndCount(
+      conv.BackgroundProps.data(), static_cast<int>(conv.BackgroundProps.size()));
+    bgState.SetFrameBuffer(s->GetFrameBuffer());
+    in->OpaquePass->Render(&bgState);
+    rendered += in->OpaquePass->GetNumberOfRenderedProps();
+  }
   if (!in->Compositor.Draw(win, in->Frame, x, y, width, height))
   {
     vtkErrorMacro("Could not build the compositing shader.");
@@ -328,7 +339,6 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
   glState.SetPropArrayAndCount(conv.OpenGLProps.empty() ? nullptr : conv.OpenGLProps.data(),
     static_cast<int>(conv.OpenGLProps.size()));
   glState.SetFrameBuffer(s->GetFrameBuffer());
-  int rendered = conv.TracedActors;
   for (vtkRenderPass* pass :
     { static_cast<vtkRenderPass*>(in->OpaquePass), static_cast<vtkRenderPass*>(in->TranslucentPass),
       static_cast<vtkRenderPass*>(in->VolumetricPass),

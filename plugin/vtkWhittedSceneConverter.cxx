@@ -7,6 +7,7 @@
 #include "vtkAssembly.h"
 #include "vtkAssemblyNode.h"
 #include "vtkAssemblyPath.h"
+#include "vtkCamera.h"
 #include "vtkBoundingBox.h"
 #include "vtkCompositeDataDisplayAttributes.h"
 #include "vtkCompositePolyDataMapper2.h"
@@ -29,8 +30,10 @@
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
 #include "vtkScalarsToColors.h"
+#include "vtkSkybox.h"
 #include "vtkSmartPointer.h"
 #include "vtkTexture.h"
+#include "vtkVersionMacros.h"
 
 #include "material.h"
 #include "scene.h"
@@ -193,6 +196,14 @@ struct TextureEntry
   unsigned long LastFrame = 0;
 };
 
+// The six faces of a cube-map environment texture
+struct CubeEntry
+{
+  int32_t Faces[6] = { -1, -1, -1, -1, -1, -1 };
+  vtkMTimeType Stamp = 0;
+  unsigned long LastFrame = 0;
+};
+
 // A leaf actor found in this frame's props, with its world matrix.
 struct Leaf
 {
@@ -235,6 +246,11 @@ enum ProblemBit : uint32_t
   BitNoTubeRadius = 1u << 28,
   BitUnusableColors = 1u << 30
 };
+
+// Warning bits of the environment (skybox) props, above every 32-bit bit
+constexpr uint64_t BitStereoSkybox = uint64_t(1) << 32;
+constexpr uint64_t BitSkyboxCubeFaces = uint64_t(1) << 33;
+constexpr uint64_t BitFloorSkybox = uint64_t(1) << 34;
 
 // The problems of one converted geometry, in words, with the bit each is warned under.
 std::vector<std::pair<uint32_t, std::string>> ProblemMessages(
@@ -316,10 +332,11 @@ struct vtkWhittedSceneConverter::Internals
   std::map<GeometryKey, Geometry> Geometries;
   std::map<InstanceKey, InstanceSlot> Instances;
   std::map<vtkTexture*, TextureEntry> Textures;
+  std::map<vtkTexture*, CubeEntry> CubeTextures;
   std::vector<uint32_t> FreeObjects;
   std::vector<std::pair<uint32_t, uint32_t>> FreeInstances; // (instance, material)
   int DeadTextures = 0;
-  std::set<std::pair<vtkProp*, uint32_t>> Warned;
+  std::set<std::pair<vtkProp*, uint64_t>> Warned;
 
   vtkObject* Owner = nullptr;
   bool LightsOn = true;
@@ -339,13 +356,14 @@ struct vtkWhittedSceneConverter::Internals
     this->Geometries.clear();
     this->Instances.clear();
     this->Textures.clear();
+    this->CubeTextures.clear();
     this->FreeObjects.clear();
     this->FreeInstances.clear();
     this->Surfaces.clear();
     this->DeadTextures = 0;
   }
 
-  void WarnOnce(vtkProp* prop, uint32_t what, const std::string& msg)
+  void WarnOnce(vtkProp* prop, uint64_t what, const std::string& msg)
   {
     if (this->Warned.insert(std::make_pair(prop, what)).second)
     {
@@ -509,6 +527,163 @@ struct vtkWhittedSceneConverter::Internals
   }
 
   //----------------------------------------------------------------------------
+  // The six faces of a cube-map texture (inputs 0..5: +X, -X, +Y, -Y, +Z, -Z), converted again
+  // when the texture or a face changed
+  bool GetCubeTextures(vtkTexture* texture, int32_t faces[6])
+  {
+    texture->Update();
+    vtkImageData* images[6];
+    vtkMTimeType stamp = texture->GetMTime();
+    for (int i = 0; i < 6; ++i)
+    {
+      images[i] = texture->GetNumberOfInputPorts() > i
+        ? vtkImageData::SafeDownCast(texture->GetInputDataObject(i, 0))
+        : nullptr;
+      if (!images[i])
+      {
+        return false;
+      }
+      stamp = std::max(stamp, images[i]->GetMTime());
+    }
+    CubeEntry& e = this->CubeTextures[texture];
+    e.LastFrame = this->Frame;
+    if (e.Stamp != stamp || e.Faces[0] < 0)
+    {
+      for (int i = 0; i < 6; ++i)
+      {
+        if (e.Faces[i] >= 0)
+        {
+          ++this->DeadTextures;
+        }
+        whitted::Texture t = vtkWhittedPolyDataConverter::ConvertImage(
+          images[i], images[i]->GetPointData()->GetScalars(), texture);
+        t.repeat = false;
+        t.interpolate = texture->GetInterpolate() != 0;
+        e.Faces[i] = t.width > 0 ? static_cast<int>(this->Scene.addTexture(std::move(t))) : -1;
+      }
+      e.Stamp = stamp;
+    }
+    std::copy(e.Faces, e.Faces + 6, faces);
+    return std::all_of(faces, faces + 6, [](int32_t f) { return f >= 0; });
+  }
+
+  //----------------------------------------------------------------------------
+  // What reflected and bent rays see (whitted::EnvironmentMap), in VTK's order of precedence: a
+  // visible vtkSkybox with a texture (what the user sees around the scene), else the renderer's
+  // environment texture (image-based lighting), else its textured (screen-space) background.
+  // Without any, the background colour or gradient.
+  void ConvertEnvironment(vtkRenderer* ren, vtkSkybox* skybox)
+  {
+    using Projection = whitted::EnvironmentMap::Projection;
+    whitted::EnvironmentMap env;
+    auto vec = [](const double* v) { return whitted::Vec3(v[0], v[1], v[2]); };
+    auto unit = [](const whitted::Vec3& v, const whitted::Vec3& fallback)
+    {
+      const double l = glm::length(v);
+      return std::isfinite(l) && l > 0.0 ? v / l : fallback;
+    };
+    vtkTexture* skyTexture = skybox ? skybox->GetTexture() : nullptr;
+    if (skyTexture)
+    {
+      // vtkSkybox's shader: up = floor plane normal, right = FloorRight, front = up x right
+      const float* plane = skybox->GetFloorPlane();
+      const float* right = skybox->GetFloorRight();
+      const whitted::Vec3 up = unit(whitted::Vec3(plane[0], plane[1], plane[2]), { 0, 1, 0 });
+      const whitted::Vec3 r = unit(whitted::Vec3(right[0], right[1], right[2]), { 1, 0, 0 });
+      const int projection = skybox->GetProjection();
+      if (projection == vtkSkybox::Sphere || projection == vtkSkybox::StereoSphere)
+      {
+        if (projection == vtkSkybox::StereoSphere)
+        {
+          this->WarnOnce(skybox, BitStereoSkybox,
+            "stereo skybox: reflections see the whole image as one equirectangular panorama");
+        }
+        env.projection = Projection::Sphere;
+        env.faces[0] = this->GetTexture(skyTexture);
+        env.right = r;
+        env.up = up;
+        env.front = glm::cross(up, r);
+      }
+      else if (projection == vtkSkybox::Cube)
+      {
+        if (this->GetCubeTextures(skyTexture, env.faces))
+        {
+          env.projection = Projection::Cube;
+#if VTK_MAJOR_VERSION > 9 || (VTK_MAJOR_VERSION == 9 && VTK_MINOR_VERSION >= 2)
+          // From VTK 9.2 (ParaView 5.11) the cube lookup is (d.right, d.up, d.front)
+          env.right = r;
+          env.up = up;
+          env.front = -glm::cross(up, r);
+#endif
+        }
+        else
+        {
+          this->WarnOnce(skybox, BitSkyboxCubeFaces,
+            "cube-map skybox without six image faces: reflections see the background colour");
+        }
+      }
+      else
+      {
+        this->WarnOnce(skybox, BitFloorSkybox,
+          "floor skybox: reflections see the background colour (only sphere and cube skyboxes "
+          "are sampled by direction)");
+      }
+    }
+    else if (vtkTexture* t = ren->GetEnvironmentTexture())
+    {
+      const whitted::Vec3 up = unit(vec(ren->GetEnvironmentUp()), { 0, 1, 0 });
+      const whitted::Vec3 r = unit(vec(ren->GetEnvironmentRight()), { 1, 0, 0 });
+      if (t->GetCubeMap())
+      {
+        if (this->GetCubeTextures(t, env.faces))
+        {
+          env.projection = Projection::Cube;
+          env.right = r;
+          env.up = up;
+          env.front = -glm::cross(r, up);
+        }
+      }
+      else
+      {
+        // VTK's equirectangular convention: u = atan2(d.z, d.x) / 2pi + 0.5 in the default frame
+        env.projection = Projection::Sphere;
+        env.faces[0] = this->GetTexture(t);
+        env.right = glm::cross(r, up);
+        env.up = up;
+        env.front = r;
+      }
+    }
+    else if (ren->GetTexturedBackground() && ren->GetBackgroundTexture())
+    {
+      env.projection = Projection::Screen;
+      env.faces[0] = this->GetTexture(ren->GetBackgroundTexture());
+      vtkCamera* cam = ren->GetActiveCamera();
+      vtkMatrix4x4* m =
+        cam->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1);
+      for (int r = 0; r < 4; ++r)
+      {
+        for (int c = 0; c < 4; ++c)
+        {
+          env.worldToClip[c][r] = m->GetElement(r, c);
+        }
+      }
+      double fp[3], pos[3];
+      cam->GetFocalPoint(fp);
+      cam->GetPosition(pos);
+      env.viewDirection = unit(vec(fp) - vec(pos), { 0, 0, -1 });
+      // The up vector perpendicular to the view direction
+      const whitted::Vec3 up = unit(vec(cam->GetViewUp()), { 0, 1, 0 });
+      env.viewUp =
+        unit(up - glm::dot(up, env.viewDirection) * env.viewDirection, { 0, 1, 0 });
+    }
+    if (env.projection != Projection::None && env.faces[0] < 0)
+    {
+      env.projection = Projection::None; // an empty image: the background colour
+    }
+    this->Scene.environmentMap = env;
+  }
+
+  //----------------------------------------------------------------------------
   whitted::Material MakeMaterial(
     vtkActor* actor, const Piece& piece, const Geometry& g, int actorTexture)
   {
@@ -636,6 +811,11 @@ struct vtkWhittedSceneConverter::Internals
   // Whether the tracer draws this actor (else VTK's OpenGL path does).
   static bool IsTraceable(vtkActor* actor)
   {
+    // A skybox is the environment, not geometry (its mapper holds a stand-in square)
+    if (actor->IsA("vtkSkybox"))
+    {
+      return false;
+    }
     vtkMapper* mapper = actor->GetMapper();
     if (!mapper || !actor->GetProperty() ||
       !(vtkPolyDataMapper::SafeDownCast(mapper) || vtkDataSetMapper::SafeDownCast(mapper)))
@@ -951,10 +1131,16 @@ void vtkWhittedSceneConverter::Update(
   vtkPropCollection* viewProps = ren->GetViewProps();
   vtkCollectionSimpleIterator pit;
   viewProps->InitTraversal(pit);
+  vtkSkybox* skybox = nullptr;
   while (vtkProp* prop = viewProps->GetNextProp(pit))
   {
     if (!prop->GetVisibility())
     {
+      continue;
+    }
+    if (vtkSkybox* sky = vtkSkybox::SafeDownCast(prop))
+    {
+      skybox = skybox ? skybox : sky; // the first visible one, like what is drawn first
       continue;
     }
     if (vtkAssembly::SafeDownCast(prop))
@@ -989,11 +1175,17 @@ void vtkWhittedSceneConverter::Update(
   {
     vtkProp* prop = props[i];
     vtkActor* actor = vtkActor::SafeDownCast(prop);
-    if (prop && !vtkAssembly::SafeDownCast(prop) && !(actor && Internals::IsTraceable(actor)))
+    if (vtkSkybox::SafeDownCast(prop))
+    {
+      result.BackgroundProps.push_back(prop); // drawn by OpenGL behind the traced image
+    }
+    else if (prop && !vtkAssembly::SafeDownCast(prop) &&
+      !(actor && Internals::IsTraceable(actor)))
     {
       result.OpenGLProps.push_back(prop);
     }
   }
+  in.ConvertEnvironment(ren, skybox);
 
   // Convert; actors found to need OpenGL go to the OpenGL list (if the render state has them)
   for (const Leaf& leaf : leaves)
@@ -1044,6 +1236,18 @@ void vtkWhittedSceneConverter::Update(
   for (auto it = in.Surfaces.begin(); it != in.Surfaces.end();)
   {
     it = it->second.LastFrame != in.Frame ? in.Surfaces.erase(it) : std::next(it);
+  }
+  for (auto it = in.CubeTextures.begin(); it != in.CubeTextures.end();)
+  {
+    if (it->second.LastFrame != in.Frame)
+    {
+      in.DeadTextures += 6;
+      it = in.CubeTextures.erase(it);
+    }
+    else
+    {
+      ++it;
+    }
   }
   for (auto it = in.Textures.begin(); it != in.Textures.end();)
   {

@@ -45,6 +45,9 @@ public:
   struct Result
   {
     std::vector<vtkProp*> OpenGLProps; ///< Props to draw with VTK's OpenGL stages.
+    /// Props that are the environment (vtkSkybox): drawn by OpenGL before the traced image is
+    /// composited over them, so translucent pixels show them behind; reflections sample them.
+    std::vector<vtkProp*> BackgroundProps;
     int GeometriesConverted = 0;       ///< Geometries (inputs or blocks) converted in this update.
     int TracedActors = 0;              ///< Leaf actors that became instances.
     bool HeadlightShading = false;     ///< VTK light complexity 1 (one headlight) applies.
