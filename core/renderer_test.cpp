@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -296,4 +297,27 @@ TEST(Renderer, ExceptionInFrameIsRethrownAfterJoin) {
   rs.progress = nullptr;
   FrameStats fs = render(c.scene, cam, rs, 64, 64, fb);  // and the next frame is complete
   EXPECT_EQ(fs.rays.primary, 64u * 64u);
+}
+
+// The safety nets count what they catch: a valid frame catches nothing; a non-finite material value smuggled in
+// after commit (bypassing the sanitiser) is zeroed in every sample it reaches, never reaches a pixel, and is
+// counted in the statistics and the report.
+TEST(Renderer, SafetyNetsCountWhatTheyCatch) {
+  Classic c;
+  Camera cam = c.cs.make(1.0, c.scene.bounds());
+  RenderSettings rs;
+  rs.threads = 2;
+  FrameBuffer fb;
+  FrameStats clean = render(c.scene, cam, rs, 32, 32, fb);
+  EXPECT_EQ(clean.rays.safetyNetCatches(), 0u);
+  for (std::size_t m = 0; m < c.scene.materialCount(); ++m)
+    c.scene.material(uint32_t(m)).diffuseColor = Color(std::numeric_limits<float>::quiet_NaN());
+  FrameStats bad = render(c.scene, cam, rs, 32, 32, fb);
+  EXPECT_GT(bad.rays.nonFiniteSamples, 0u);
+  EXPECT_EQ(bad.rays.safetyNetCatches(), bad.rays.nonFiniteSamples);  // samples zeroed: pixels stay finite
+  for (const Color4& px : fb.color)
+    for (int k = 0; k < 4; ++k) EXPECT_TRUE(std::isfinite(px[k]));
+  const std::string report = frameReport(bad, c.scene.stats(), CommitStats{}, 32, 32, 0.0, nullptr);
+  EXPECT_NE(report.find(std::to_string(bad.rays.nonFiniteSamples) + " non-finite samples"), std::string::npos)
+      << report;
 }

@@ -374,8 +374,7 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
   this->LastNumberOfOpenGLProps = static_cast<int>(conv.OpenGLProps.size());
   this->LastFrameAborted = frame.aborted;
   this->LastFrameFailed = false;
-  this->LastNumberOfSafetyNetCatches =
-    frame.rays.safetyNetCatches() + commit.invalidMaterials + commit.invalidLights;
+  this->LastNumberOfSafetyNetCatches = frame.rays.safetyNetCatches();
 
   this->LastFrameReport = whitted::frameReport(
     frame, sstats, commit, traceWidth, traceHeight, this->LastConversionTime, "conversion");

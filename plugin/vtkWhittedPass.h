@@ -238,9 +238,10 @@ public:
 
   /**
    * Safety nets of the last frame: camera samples and pixels with a non-finite value that was
-   * zeroed, and alpha or depth values outside [0, 1] that were clamped (each counted once), plus
-   * materials and lights whose input values had to be fixed at the last commit. Zero for valid
-   * input: tests assert it, so a net cannot hide a bug. The frame report lists them one by one.
+   * zeroed, and alpha or depth values outside [0, 1] that were clamped. Zero for valid input, and
+   * also for bad input once the scene conversion and commit have rejected or fixed it (with a
+   * warning): tests assert it, so a net cannot hide a bug. The frame report lists each net, and the
+   * input values fixed at commit (materials, lights) beside them.
    */
   vtkGetMacro(LastNumberOfSafetyNetCatches, vtkTypeUInt64);
 

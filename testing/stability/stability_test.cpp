@@ -48,6 +48,8 @@ std::vector<uint8_t> renderScaled(const Similarity& x, int w, int h, FrameStats*
   FrameBuffer fb;
   FrameStats fs = render(scene, cs.make(double(w) / h, scene.bounds()), RenderSettings{}, w, h, fb);
   if (stats) *stats = fs;
+  // The safety nets must catch nothing (else they would hide from the finiteness check what it looks for)
+  EXPECT_EQ(fs.rays.safetyNetCatches(), 0u);
   for (const Color4& c : fb.color)
     for (int k = 0; k < 4; ++k) EXPECT_TRUE(std::isfinite(c[k]));
   return toRgba8(fb);
@@ -305,6 +307,7 @@ TEST(Stability, OpticsAtTheEdge) {
     std::printf("[stability] %-24s rays %llu, saved at depth cap %llu, non-finite %d\n", c.name,
                 (unsigned long long)fs.rays.traced(), (unsigned long long)fs.rays.savedByDepth, nonFinite);
     EXPECT_EQ(nonFinite, 0) << c.name;
+    EXPECT_EQ(fs.rays.safetyNetCatches(), 0u) << c.name;
     EXPECT_FALSE(fs.aborted);
     if (std::string(c.name) == "light inside closed mesh") {
       // Every point outside is in the shadow of the closed mesh around the light: the image equals the same
@@ -349,7 +352,8 @@ TEST(Stability, CameraExtremes) {
   const int n = 17, centre = 8 * n + 8;  // odd size: pixel 8's centre is the exact image centre
   for (const Case& c : cases) {
     FrameBuffer fb;
-    render(s, c.cam, RenderSettings{}, n, n, fb);
+    const FrameStats fs = render(s, c.cam, RenderSettings{}, n, n, fb);
+    EXPECT_EQ(fs.rays.safetyNetCatches(), 0u) << c.name;
     for (const Color4& px : fb.color)
       for (int k = 0; k < 4; ++k) ASSERT_TRUE(std::isfinite(px[k])) << c.name;
     for (float d : fb.depth) ASSERT_TRUE(d >= 0.0f && d <= 1.0f) << c.name;
@@ -406,7 +410,8 @@ TEST(Stability, BadInputIsSkippedAndTheRestRenders) {
   Camera cam = Camera::perspective(Vec3(0, 0, 5), Vec3(0), Vec3(0, 1, 0), 30, 1, 0.1, 100);
   FrameBuffer a, b;
   render(good, cam, RenderSettings{}, 40, 40, a);
-  render(bad, cam, RenderSettings{}, 40, 40, b);
+  // Bad input is rejected at commit: nothing is left for the frame's safety nets to catch
+  EXPECT_EQ(render(bad, cam, RenderSettings{}, 40, 40, b).rays.safetyNetCatches(), 0u);
   for (std::size_t i = 0; i < a.color.size(); ++i) {
     for (int k = 0; k < 4; ++k) ASSERT_TRUE(std::isfinite(b.color[i][k]));
     EXPECT_EQ(a.color[i], b.color[i]);

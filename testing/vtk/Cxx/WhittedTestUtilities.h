@@ -189,8 +189,8 @@ inline int DifferingPixels(
   return n;
 }
 
-/// Values of the pass's last traced frame (colour and depth) that are NaN or infinite; -1 if the
-/// pass kept no frame.
+/// Values of the pass's last traced frame (colour and depth) that are NaN or infinite, plus what the
+/// tracer's safety nets caught in that frame; -1 if the pass kept no frame.
 inline int NonFiniteValues(vtkWhittedPass* pass)
 {
   vtkNew<vtkFloatArray> rgba;
@@ -200,7 +200,9 @@ inline int NonFiniteValues(vtkWhittedPass* pass)
   {
     return -1;
   }
-  int n = 0;
+  // What the tracer's safety nets caught (and zeroed or clamped) counts too: otherwise the nets would
+  // hide from this check the very values it looks for
+  int n = static_cast<int>(pass->GetLastNumberOfSafetyNetCatches());
   for (vtkFloatArray* a : { rgba.Get(), depth.Get() })
   {
     for (vtkIdType i = 0; i < a->GetNumberOfValues(); ++i)
