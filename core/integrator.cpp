@@ -241,9 +241,10 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
       const bool rayStraight = straight && refractedRay && refractedStraight;
       Color c = radiance<Reflect, Refract, Shadows>(r, depth + 1, w, rayStraight, st, ps, &t, nullptr);
       if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) {
-        // The refracted ray travelled t units inside the medium
-        Color a = m.absorption * float(t);
-        c *= Color(std::exp(-a.x), std::exp(-a.y), std::exp(-a.z));
+        // The refracted ray travelled t units inside the medium. In double, and only where there is absorption: a
+        // path longer than float's range must give exp(-inf) = 0, and no absorption must give 1, not 0 x inf
+        for (int i = 0; i < 3; ++i)
+          if (m.absorption[i] > 0.0f) c[i] *= float(std::exp(-double(m.absorption[i]) * t));
       }
       result += k * c;
     };

@@ -442,3 +442,25 @@ TEST(Integrator, EscapedRaysSeeScreenBackgroundOrEnvironment) {
   EXPECT_EQ(miss.color, Color(0.0f)) << "a miss leaves the screen background to what is drawn behind";
   EXPECT_EQ(st.safetyNetCatches(), 0u);
 }
+
+// Beer-Lambert: exp(-absorption x distance) through a 10-unit glass block, and exactly 1 without absorption.
+// (A path longer than float's range used to give 0 x inf = NaN with no absorption, zeroed by the safety net and
+// found by the fuzzer once the net's count was asserted: testing/fuzz/corpus/scene/beer-lambert-inf-times-zero.)
+TEST(Integrator, BeerLambertAbsorption) {
+  for (float absorption : {0.0f, 1e-3f, 0.1f}) {
+    Scene s;
+    Material glass = glassMaterial(1.0f);
+    glass.absorption = Color(absorption);
+    addObject(s, boxMesh(Vec3(-1, -1, -10), Vec3(1, 1, 0)), glass);
+    s.background = Color(1.0f);
+    s.commit();
+    IntegratorSettings is;
+    is.beerLambert = true;
+    Integrator integ(s, is, Vec3(0, 1, 0));
+    RayStats st;
+    Sample smp = integ.trace(ray(Vec3(0, 0, 1), Vec3(0, 0, -1)), st, Color(1.0f));
+    EXPECT_EQ(st.safetyNetCatches(), 0u);
+    EXPECT_EQ(st.refraction, 2u);
+    EXPECT_NEAR(smp.color.x, std::exp(-10.0 * absorption), 1e-6);
+  }
+}

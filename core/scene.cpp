@@ -364,6 +364,12 @@ CommitStats Scene::commit() {
       l.attenuation = glm::max(l.attenuation, Vec3(0.0));
       bad = true;
     }
+    // vtkLight's own range (SetExponent clamps to [0, 128]): a negative spot exponent would make the cone factor
+    // infinite (pow(cos, -e))
+    if (l.exponent < 0.0 || l.exponent > 128.0) {
+      l.exponent = std::clamp(l.exponent, 0.0, 128.0);
+      bad = true;
+    }
     st.invalidLights += bad;
   }
 

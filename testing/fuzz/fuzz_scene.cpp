@@ -103,7 +103,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   rs.integrator.fresnel = r.get<uint8_t>() & 1;
   rs.integrator.beerLambert = r.get<uint8_t>() & 1;
   FrameBuffer fb;
-  render(scene, Camera::fromViewProjection(vp), rs, 8, 8, fb);
+  const FrameStats fs = render(scene, Camera::fromViewProjection(vp), rs, 8, 8, fb);
+  // The frame's safety nets zero non-finite values: the checks below could never fail on their own, so what the
+  // nets caught must be zero too (the scene was sanitised at commit; nothing invalid may remain for them)
+  if (fs.rays.nonFiniteSamples + fs.rays.nonFinitePixels != 0) {
+    std::fprintf(stderr, "safety nets caught %llu non-finite samples, %llu non-finite pixels\n",
+                 (unsigned long long)fs.rays.nonFiniteSamples, (unsigned long long)fs.rays.nonFinitePixels);
+    std::abort();
+  }
   for (const Color4& c : fb.color)
     for (int k = 0; k < 4; ++k)
       if (!std::isfinite(c[k])) {
