@@ -33,6 +33,30 @@ Vec3 transformError(const Mat4& m, const Vec3& p, const Vec3& e) {
   return out;
 }
 
+/// Surface crossings of one instance already counted by a shadow ray, to recognise the same crossing reported again
+/// by a neighbouring primitive (a shared edge or vertex, a tube joint). Fixed size, no allocation: boundary hits
+/// are rare (only exact edge/vertex hits of triangles, caps and seams of capsules), and past kSize the oldest
+/// entries are overwritten (a later duplicate of an overwritten crossing is then counted again).
+class CountedCrossings {
+ public:
+  /// True if a crossing at t (rounding error tError) was counted already; otherwise records it and returns false.
+  bool seenOrAdd(double t, double tError) {
+    for (uint32_t i = 0, n = std::min(n_, kSize); i < n; ++i)
+      if (std::abs(t - t_[i]) <= tError + error_[i]) return true;
+    t_[n_ & (kSize - 1)] = t;
+    error_[n_ & (kSize - 1)] = tError;
+    ++n_;
+    return false;
+  }
+  void clear() { n_ = 0; }
+
+ private:
+  static constexpr uint32_t kSize = 16;  // a power of two
+  double t_[kSize];
+  double error_[kSize];
+  uint32_t n_ = 0;
+};
+
 Vec3 safeNormalize(const Vec3& v, const Vec3& fallback) {
   double l = glm::length(v);
   return (l > 0.0 && std::isfinite(l)) ? v / l : fallback;
@@ -434,6 +458,7 @@ bool Scene::intersect(const Ray& ray, Hit& hit, uint64_t* nodes) const {
 
 Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes) const {
   Color atten(1.0f);
+  CountedCrossings counted;
   double tMax = ray.tMax;
   bool blocked = top_.traverse<true>(
       ray, tMax,
@@ -450,19 +475,24 @@ Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes) const 
           }
           double tm = r.tMax;
           const TriangleRay tr(r);
+          counted.clear();  // crossings are shared only between primitives of one object
           bool stop = o.bvh.traverse<true>(
               r, tm,
               [&](uint32_t f, uint32_t c, double&) {
                 for (uint32_t k = f; k < f + c; ++k) {
-                  // Every crossing of a transmissive surface multiplies by kt; an opaque one blocks
+                  // Every crossing of a transmissive surface multiplies by kt once; an opaque one blocks. A hit on a
+                  // primitive boundary that coincides (within both rounding bounds) with a boundary hit counted
+                  // already is the same crossing seen by a neighbour (shared edge or vertex, tube joint): skipped.
                   Ray rr = r;
                   for (int guard = 0; guard < 4; ++guard) {
                     std::optional<PrimHit> h;
                     h = intersectLeafSlot(o, k, rr, tr);
                     if (!h) break;
                     if (opaque) return true;
-                    atten *= kt;
-                    if (maxComponent(atten) < cutoff) return true;
+                    if (!h->boundary || !counted.seenOrAdd(h->t, h->tError)) {
+                      atten *= kt;
+                      if (maxComponent(atten) < cutoff) return true;
+                    }
                     if (o.type == GeometryType::Triangles) break;  // a triangle is crossed once
                     rr.tMin = h->t;
                   }

@@ -133,7 +133,10 @@ class Scene {
   bool intersect(const Ray& ray, Hit& hit, uint64_t* nodes = nullptr) const;
 
   /// Transmittance along a shadow ray over (tMin, tMax): zero if an opaque surface blocks it, otherwise the
-  /// product of kt of every transmissive surface crossed. Stops early once below cutoff (returns zero).
+  /// product of kt of every transmissive surface crossed. A surface crossed once attenuates once: a crossing that
+  /// several primitives of one object report (a ray exactly through an edge or vertex shared by triangles, or
+  /// through the joint of two capsules) counts once; boundary hits of one object closer than the sum of their
+  /// rounding-error bounds (PrimHit::tError) are that one crossing. Stops early once below cutoff (returns zero).
   Color transmittance(const Ray& ray, float cutoff, uint64_t* nodes = nullptr) const;
 
   /// Surface data of a hit.
