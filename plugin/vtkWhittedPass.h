@@ -177,6 +177,8 @@ public:
    * REFLECTANCE: weight of the mirror-reflected ray, 1 value (grey) or 3 (RGB) in [0,1]. Default 0.
    * TRANSMITTANCE: weight of the transmitted (refracted) ray and the filter applied to shadow rays
    * crossing the actor, 1 or 3 values in [0,1]. Default 1 - Opacity.
+   * Energy: where REFLECTANCE + TRANSMITTANCE exceeds 1 in some channel, both are scaled (all
+   * channels) by 1 / the largest channel sum, with one warning per actor.
    * INDEX_OF_REFRACTION: index of the actor's inside (outside is 1). Default 1 (no bending).
    */
   static vtkInformationDoubleVectorKey* REFLECTANCE();

@@ -37,6 +37,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <set>
 #include <string>
@@ -220,7 +221,7 @@ std::string SanitizeMessage(uint32_t bits)
     ((bits & (1u << 6)) ? " (an INDEX_OF_REFRACTION <= 0 or NaN becomes 1)" : "");
 }
 
-// Warning bits of input problems (distinct from sanitizeMaterial's bits 0-7 and the 1 << 16..18
+// Warning bits of input problems (distinct from sanitizeMaterial's bits 0-8 and the 1 << 16..18
 // bits of unsupported settings)
 enum ProblemBit : uint32_t
 {
@@ -581,9 +582,29 @@ struct vtkWhittedSceneConverter::Internals
       }
     }
 
+    // Largest channel sum of kr + kt as sanitizeMaterial sees it after clamping each to [0,1] (for
+    // the energy warning)
+    float energy = 0.0f;
+    for (int i = 0; i < 3; ++i)
+    {
+      auto clamp01 = [](float v) { return std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f; };
+      energy = std::max(energy, clamp01(m.reflectance[i]) + clamp01(m.transmittance[i]));
+    }
     if (const uint32_t fixed = whitted::sanitizeMaterial(m))
     {
-      this->WarnOnce(actor, fixed, SanitizeMessage(fixed));
+      if (const uint32_t clamped = fixed & ~whitted::kMaterialEnergyScaled)
+      {
+        this->WarnOnce(actor, clamped, SanitizeMessage(clamped));
+      }
+      if (fixed & whitted::kMaterialEnergyScaled)
+      {
+        char sum[32];
+        std::snprintf(sum, sizeof(sum), "%.4g", energy);
+        this->WarnOnce(actor, whitted::kMaterialEnergyScaled,
+          std::string("REFLECTANCE + TRANSMITTANCE is above 1 (largest channel sum ") + sum +
+            "): both scaled by 1/" + sum +
+            " so that sum is 1 (a surface cannot return more light than reaches it)");
+      }
     }
     return m;
   }
