@@ -369,6 +369,10 @@ SceneStats Scene::stats() const {
   }
   s.bvhNodes += top_.nodes().size();
   s.bvhBytes += top_.memoryBytes();
+  for (const Texture& t : textures_) {
+    s.textures += !t.rgba.empty();
+    s.textureBytes += t.rgba.capacity();
+  }
   return s;
 }
 

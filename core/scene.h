@@ -63,6 +63,8 @@ struct CommitStats {
 struct SceneStats {
   std::size_t triangles = 0, spheres = 0, capsules = 0, objects = 0, instances = 0;
   std::size_t bvhNodes = 0, bvhBytes = 0, geometryBytes = 0;
+  std::size_t textures = 0;      ///< Textures holding texels (colour maps included).
+  std::size_t textureBytes = 0;  ///< Memory of their texels, bytes (allocated capacity).
 };
 
 class Scene {

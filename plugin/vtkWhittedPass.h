@@ -215,12 +215,15 @@ public:
   ///@{
   /**
    * Scene of the last frame: triangles, spheres (points as spheres), tubes (lines as tubes), BVH
-   * memory in bytes, image size.
+   * memory in bytes, textures held (actor textures and colour maps of
+   * InterpolateScalarsBeforeMapping) and their memory in bytes, image size.
    */
   vtkGetMacro(LastNumberOfTriangles, vtkTypeUInt64);
   vtkGetMacro(LastNumberOfSpheres, vtkTypeUInt64);
   vtkGetMacro(LastNumberOfTubes, vtkTypeUInt64);
   vtkGetMacro(LastBVHBytes, vtkTypeUInt64);
+  vtkGetMacro(LastNumberOfTextures, vtkTypeUInt64);
+  vtkGetMacro(LastTextureBytes, vtkTypeUInt64);
   vtkGetVector2Macro(LastSize, int);
   ///@}
 
@@ -296,6 +299,8 @@ protected:
   vtkTypeUInt64 LastNumberOfSpheres = 0;
   vtkTypeUInt64 LastNumberOfTubes = 0;
   vtkTypeUInt64 LastBVHBytes = 0;
+  vtkTypeUInt64 LastNumberOfTextures = 0;
+  vtkTypeUInt64 LastTextureBytes = 0;
   int LastSize[2] = { 0, 0 };
   int LastNumberOfGeometriesConverted = 0;
   int LastNumberOfObjectsRebuilt = 0;
