@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
+#include <type_traits>
 
 namespace whitted {
 
@@ -57,6 +59,13 @@ class CountedCrossings {
   uint32_t n_ = 0;
 };
 
+/// Same size and same bytes (NaN compares equal to itself, -0 differs from 0: conservative for "unchanged").
+template <typename T>
+bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
 Vec3 safeNormalize(const Vec3& v, const Vec3& fallback) {
   double l = glm::length(v);
   return (l > 0.0 && std::isfinite(l)) ? v / l : fallback;
@@ -103,11 +112,57 @@ void Scene::setCapsules(uint32_t id, CapsuleSet c) {
   o.capsules = std::move(c);
   topDirty_ = true;
 }
+bool Scene::updateMesh(uint32_t id, TriangleMesh mesh) {
+  Object& o = objects_[id];
+  if (!o.alive || o.dirty || o.type != GeometryType::Triangles || !sameBits(o.mesh.positions, mesh.positions) ||
+      !sameBits(o.mesh.triangles, mesh.triangles)) {
+    setMesh(id, std::move(mesh));
+    return true;
+  }
+  o.mesh = std::move(mesh);  // the BVH, leaf order (leafTris) and bounds stay valid
+  sanitizeColors(o);
+  return false;
+}
+bool Scene::updateSpheres(uint32_t id, SphereSet s) {
+  Object& o = objects_[id];
+  if (!o.alive || o.dirty || o.type != GeometryType::Spheres || !sameBits(o.spheres.centers, s.centers) ||
+      !sameBits(o.spheres.radii, s.radii)) {
+    setSpheres(id, std::move(s));
+    return true;
+  }
+  o.spheres = std::move(s);
+  sanitizeColors(o);
+  return false;
+}
+bool Scene::updateCapsules(uint32_t id, CapsuleSet c) {
+  Object& o = objects_[id];
+  if (!o.alive || o.dirty || o.type != GeometryType::Capsules || !sameBits(o.capsules.p0, c.p0) ||
+      !sameBits(o.capsules.p1, c.p1) || !sameBits(o.capsules.radii, c.radii)) {
+    setCapsules(id, std::move(c));
+    return true;
+  }
+  o.capsules = std::move(c);
+  sanitizeColors(o);
+  return false;
+}
 void Scene::removeObject(uint32_t id) {
   objects_[id] = Object{};
   objects_[id].alive = false;
   objects_[id].dirty = false;
   topDirty_ = true;
+}
+
+void Scene::sanitizeColors(Object& o) {
+  // Colours outside [0,1] or non-finite are clamped (alpha NaN -> 1) so no NaN can reach shading
+  auto fixColors = [](std::vector<Color4>& cs) {
+    for (Color4& c : cs)
+      for (int k = 0; k < 4; ++k) c[k] = std::isfinite(c[k]) ? std::clamp(c[k], 0.0f, 1.0f) : (k == 3 ? 1.0f : 0.0f);
+  };
+  fixColors(o.mesh.vertexColors);
+  fixColors(o.mesh.triangleColors);
+  fixColors(o.spheres.colors);
+  fixColors(o.capsules.colors0);
+  fixColors(o.capsules.colors1);
 }
 
 void Scene::rebuildObject(Object& o, CommitStats& st) {
@@ -122,16 +177,7 @@ void Scene::rebuildObject(Object& o, CommitStats& st) {
     o.bounds.extend(b);
   };
 
-  // Colours outside [0,1] or non-finite are clamped (alpha NaN -> 1) so no NaN can reach shading
-  auto fixColors = [](std::vector<Color4>& cs) {
-    for (Color4& c : cs)
-      for (int k = 0; k < 4; ++k) c[k] = std::isfinite(c[k]) ? std::clamp(c[k], 0.0f, 1.0f) : (k == 3 ? 1.0f : 0.0f);
-  };
-  fixColors(o.mesh.vertexColors);
-  fixColors(o.mesh.triangleColors);
-  fixColors(o.spheres.colors);
-  fixColors(o.capsules.colors0);
-  fixColors(o.capsules.colors1);
+  sanitizeColors(o);
 
   // Boxes of valid primitives; non-finite and degenerate ones are left out of the BVH
   if (o.type == GeometryType::Triangles) {
@@ -225,8 +271,21 @@ uint32_t Scene::addMaterial(const Material& m) {
   return uint32_t(materials_.size() - 1);
 }
 uint32_t Scene::addTexture(Texture t) {
+  if (!freeTextures_.empty()) {
+    uint32_t id = freeTextures_.back();
+    freeTextures_.pop_back();
+    textures_[id] = std::move(t);
+    return id;
+  }
   textures_.push_back(std::move(t));
   return uint32_t(textures_.size() - 1);
+}
+void Scene::setTexture(uint32_t id, Texture t) {
+  textures_[id] = std::move(t);
+}
+void Scene::removeTexture(uint32_t id) {
+  textures_[id] = Texture{};  // releases the texels
+  freeTextures_.push_back(id);
 }
 
 Color Scene::environment(const Vec3& d, const Vec3& up) const {

@@ -319,7 +319,6 @@ struct vtkWhittedSceneConverter::Internals
   std::map<vtkTexture*, TextureEntry> Textures;
   std::vector<uint32_t> FreeObjects;
   std::vector<std::pair<uint32_t, uint32_t>> FreeInstances; // (instance, material)
-  int DeadTextures = 0;
   std::set<std::pair<vtkProp*, uint32_t>> Warned;
 
   vtkObject* Owner = nullptr;
@@ -343,7 +342,6 @@ struct vtkWhittedSceneConverter::Internals
     this->FreeObjects.clear();
     this->FreeInstances.clear();
     this->Surfaces.clear();
-    this->DeadTextures = 0;
   }
 
   void WarnOnce(vtkProp* prop, uint32_t what, const std::string& msg)
@@ -356,21 +354,28 @@ struct vtkWhittedSceneConverter::Internals
   }
 
   //----------------------------------------------------------------------------
+  // Stores converted primitives of one kind in the core scene: in the geometry's existing object
+  // (whose BVH is kept when only attributes such as colours changed), a freed one, or a new one.
   uint32_t StoreObject(int existing, int kind, vtkWhittedPolyDataConverter::Primitives& c)
   {
-    uint32_t id;
-    bool reuse = existing >= 0;
-    if (reuse)
+    if (existing >= 0)
     {
-      id = static_cast<uint32_t>(existing);
+      const uint32_t id = static_cast<uint32_t>(existing);
+      switch (kind)
+      {
+        case KindTriangles:
+          this->Scene.updateMesh(id, std::move(c.Mesh));
+          break;
+        case KindSpheres:
+          this->Scene.updateSpheres(id, std::move(c.Spheres));
+          break;
+        default:
+          this->Scene.updateCapsules(id, std::move(c.Capsules));
+          break;
+      }
+      return id;
     }
-    else if (!this->FreeObjects.empty())
-    {
-      id = this->FreeObjects.back();
-      this->FreeObjects.pop_back();
-      reuse = true;
-    }
-    if (!reuse)
+    if (this->FreeObjects.empty())
     {
       switch (kind)
       {
@@ -382,6 +387,8 @@ struct vtkWhittedSceneConverter::Internals
           return this->Scene.addCapsules(std::move(c.Capsules));
       }
     }
+    const uint32_t id = this->FreeObjects.back();
+    this->FreeObjects.pop_back();
     switch (kind)
     {
       case KindTriangles:
@@ -434,14 +441,19 @@ struct vtkWhittedSceneConverter::Internals
     vtkWhittedPolyDataConverter::Convert(poly, mapper, opts, radiusScale(), c);
     ++converted;
 
-    if (g.ColorTexture >= 0)
-    {
-      ++this->DeadTextures;
-      g.ColorTexture = -1;
-    }
+    // The colour map (InterpolateScalarsBeforeMapping) replaces the geometry's previous one in
+    // place, so a lookup-table edit changes no id (and the mesh referring to it keeps its BVH)
     if (c.HasColorTexture && c.ColorTexture.width > 0)
     {
-      g.ColorTexture = static_cast<int>(this->Scene.addTexture(std::move(c.ColorTexture)));
+      if (g.ColorTexture >= 0)
+      {
+        this->Scene.setTexture(
+          static_cast<uint32_t>(g.ColorTexture), std::move(c.ColorTexture));
+      }
+      else
+      {
+        g.ColorTexture = static_cast<int>(this->Scene.addTexture(std::move(c.ColorTexture)));
+      }
       // InterpolateScalarsBeforeMapping: the interpolated coordinate is looked up in the colour map
       // before lighting, as VTK's shader does (so highlights are not tinted by the map)
       if (c.Mesh.texcoords.size() == c.Mesh.positions.size())
@@ -453,6 +465,10 @@ struct vtkWhittedSceneConverter::Internals
         }
         c.Mesh.colorMap = g.ColorTexture;
       }
+    }
+    else
+    {
+      this->FreeTexture(g.ColorTexture);
     }
     const bool has[KindCount] = { !c.Mesh.triangles.empty(), !c.Spheres.centers.empty(),
       !c.Capsules.p0.empty() };
@@ -496,17 +512,35 @@ struct vtkWhittedSceneConverter::Internals
     {
       return e.Id;
     }
-    if (e.Id >= 0)
-    {
-      ++this->DeadTextures;
-    }
     whitted::Texture t = vtkWhittedPolyDataConverter::ConvertImage(
       image, image->GetPointData()->GetScalars(), texture);
     t.repeat = texture->GetRepeat() != 0;
     t.interpolate = texture->GetInterpolate() != 0;
-    e.Id = t.width > 0 ? static_cast<int>(this->Scene.addTexture(std::move(t))) : -1;
+    // An edited texture replaces its previous texels in place (same id: materials stay valid)
+    if (t.width <= 0)
+    {
+      this->FreeTexture(e.Id);
+    }
+    else if (e.Id >= 0)
+    {
+      this->Scene.setTexture(static_cast<uint32_t>(e.Id), std::move(t));
+    }
+    else
+    {
+      e.Id = static_cast<int>(this->Scene.addTexture(std::move(t)));
+    }
     e.Stamp = stamp;
     return e.Id;
+  }
+
+  // Frees a scene texture (its id may be reused by the next addTexture) and sets id to -1.
+  void FreeTexture(int& id)
+  {
+    if (id >= 0)
+    {
+      this->Scene.removeTexture(static_cast<uint32_t>(id));
+      id = -1;
+    }
   }
 
   //----------------------------------------------------------------------------
@@ -944,11 +978,6 @@ void vtkWhittedSceneConverter::Update(
   in.Owner = owner;
   result = Result();
 
-  // Textures cannot be freed one by one in the core scene: start over when too many are dead
-  if (in.DeadTextures > 32)
-  {
-    in.Clear();
-  }
   ++in.Frame;
 
   // Lights and background
@@ -1051,10 +1080,7 @@ void vtkWhittedSceneConverter::Update(
       {
         in.FreeObject(it->second.Objects[k]);
       }
-      if (it->second.ColorTexture >= 0)
-      {
-        ++in.DeadTextures;
-      }
+      in.FreeTexture(it->second.ColorTexture);
       it = in.Geometries.erase(it);
     }
     else
@@ -1070,7 +1096,7 @@ void vtkWhittedSceneConverter::Update(
   {
     if (it->second.LastFrame != in.Frame)
     {
-      ++in.DeadTextures;
+      in.FreeTexture(it->second.Id);
       it = in.Textures.erase(it);
     }
     else
