@@ -4,7 +4,8 @@
 // get a new hue and a new range, the texture image a new colour, and the scene is rendered again.
 // After the first frame every frame must build 0 object BVHs and keep the top-level BVH, the
 // texture memory must stay that of the first frame, and each actor's centre pixel must show the
-// colour of this edit.
+// colour of this edit. Then textures no longer used (actor removed, colour map switched off) must
+// be freed.
 #include "WhittedTestUtilities.h"
 
 #include "vtkCamera.h"
@@ -195,5 +196,18 @@ int TestWhittedColorMapEdits(int, char*[])
     static_cast<unsigned long long>(firstTextureBytes), worstColour);
   ok &= objectsRebuilt == 0 && topLevelRebuilt == 0 && maxTextureBytes <= firstTextureBytes &&
     maxTextures <= firstTextures && firstTextures == 2;
+
+  // Unused textures are freed: the textured actor removed, then the colour map no longer needed
+  ren->RemoveActor(a3);
+  win->Render();
+  const vtkTypeUInt64 withoutPlane = pass->GetLastNumberOfTextures();
+  m1->InterpolateScalarsBeforeMappingOff();
+  win->Render();
+  const vtkTypeUInt64 withoutMap = pass->GetLastNumberOfTextures();
+  std::printf("textures held: %llu after removing the textured actor (want 1), %llu after "
+              "InterpolateScalarsBeforeMappingOff (want 0), %llu bytes\n",
+    static_cast<unsigned long long>(withoutPlane), static_cast<unsigned long long>(withoutMap),
+    static_cast<unsigned long long>(pass->GetLastTextureBytes()));
+  ok &= withoutPlane == 1 && withoutMap == 0 && pass->GetLastTextureBytes() == 0;
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }
