@@ -7,6 +7,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 using namespace whitted;
 
 namespace {
@@ -115,6 +117,35 @@ TEST(Integrator, TotalInternalReflectionPastCriticalAngle) {
       EXPECT_LT(smp.color.x, 0.01f);
       EXPECT_GE(st.reflection, 1u);
     }
+  }
+}
+
+// A slab that is both a perfect mirror and clear glass (kr = kt = 1, no local colour) in front of a uniform
+// background of colour c, no lights: every path ends in the background, so no ray may return more than c (kr + kt
+// is scaled to 1 at commit). Rays at several angles, with and without Fresnel, deep recursion, no cutoff.
+TEST(Integrator, MirrorGlassSlabNeverBrighterThanBackground) {
+  const Color c(0.2f, 0.5f, 0.8f);
+  Scene s;
+  addObject(s, boxMesh(Vec3(-50, -0.5, -50), Vec3(50, 0.5, 50)), glassMaterial(1.5f, Color(1.0f), Color(1.0f)));
+  s.background = c;
+  s.commit();
+  for (bool fresnel : {false, true}) {
+    IntegratorSettings is;
+    is.maxDepth = 10;
+    is.contributionThreshold = 0.0f;
+    is.fresnel = fresnel;
+    Integrator integ(s, is, Vec3(0, 1, 0));
+    float brightest = 0.0f;
+    for (double angle : {0.0, 0.3, 0.7, 1.2, 1.5}) {
+      RayStats st;
+      Sample smp = integ.trace(ray(Vec3(0.1, 3.0, 0.2), Vec3(std::sin(angle), -std::cos(angle), 0.05)), st, c);
+      ASSERT_TRUE(smp.hit);
+      for (int k = 0; k < 3; ++k)
+        EXPECT_LE(smp.color[k], c[k] * (1.0f + 1e-5f)) << "angle " << angle << " fresnel " << fresnel;
+      brightest = std::max(brightest, smp.color.z / c.z);
+    }
+    std::printf("[integrator] kr = kt = 1 slab, fresnel %d: brightest sample %.4f x background\n", int(fresnel),
+                brightest);
   }
 }
 

@@ -1,6 +1,7 @@
 #include "material.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace whitted {
 
@@ -75,6 +76,18 @@ uint32_t sanitizeMaterial(Material& m) {
     fixed |= 1u << 6;
   }
   fixed |= fixColor(m.absorption, 0.0f, 1e30f, 1u << 7);
+
+  // Energy: kr + kt <= 1 per channel. Above, scale both by 1 / max channel sum; the factor is stepped down by an
+  // ulp at a time should float rounding leave the largest sum above 1 (one or two steps at most)
+  const Color kr = m.reflectance, kt = m.transmittance;
+  const float maxSum = maxComponent(kr + kt);
+  if (maxSum > 1.0f) {
+    float scale = 1.0f / maxSum;
+    while (maxComponent(kr * scale + kt * scale) > 1.0f) scale = std::nextafter(scale, 0.0f);
+    m.reflectance = kr * scale;
+    m.transmittance = kt * scale;
+    fixed |= kMaterialEnergyScaled;
+  }
   return fixed;
 }
 

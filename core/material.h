@@ -32,9 +32,10 @@ struct Material {
   bool flatShading = false;    ///< true = facet normals (VTK_FLAT interpolation).
   ColorSource colorSource = ColorSource::Material;
 
-  // Whitted terms
+  // Whitted terms. Energy: kr + kt <= 1 in every channel (sanitizeMaterial scales both down when the sum exceeds 1)
   Color reflectance{0.0f};    ///< kr: weight of the mirror-reflected ray, RGB in [0,1]. Default 0.
-  Color transmittance{0.0f};  ///< kt: weight of the refracted ray and shadow-ray attenuation per crossing. Default 0.
+  Color transmittance{0.0f};  ///< kt: weight of the refracted ray and shadow-ray attenuation per crossing, RGB in
+                              ///< [0,1]. Default 0.
   float ior = 1.0f;           ///< Index of refraction of the inside (outside is vacuum, 1). Default 1.
   Color absorption{0.0f};     ///< Beer-Lambert coefficient per world unit, used only when enabled. Default 0.
 
@@ -51,8 +52,16 @@ struct Texture {
   Color4 sample(float s, float t) const;
 };
 
-/// Sanitises a material in place (NaN, negative or out-of-range values clamped to the documented ranges) and
-/// returns a bit mask of what was fixed (0 = nothing), so adapters can warn once.
+/// Bit of sanitizeMaterial's result: kr + kt exceeded 1 in some channel, so kr and kt were both scaled (all
+/// channels) by 1 / max over channels of (kr + kt): their ratio is kept and the largest sum becomes 1 (to float
+/// rounding, never above), so a surface never returns more light than reaches it.
+constexpr uint32_t kMaterialEnergyScaled = 1u << 8;
+
+/// Sanitises a material in place and returns a bit mask of what was fixed (0 = nothing), so adapters can warn
+/// once. Bits 0-7: a value was NaN, infinite or outside its documented range and was replaced or clamped
+/// (0 a colour, 1 ambient/diffuse/specular, 2 specularPower, 3 opacity, 4 reflectance, 5 transmittance, 6 ior,
+/// 7 absorption); kr and kt are each clamped to [0,1] first. Then, if kr + kt > 1 in any channel, both are
+/// scaled as kMaterialEnergyScaled describes. A material with kr + kt <= 1 everywhere keeps kr and kt bit-exact.
 uint32_t sanitizeMaterial(Material& m);
 
 }  // namespace whitted

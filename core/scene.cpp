@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
+#include <type_traits>
 
 namespace whitted {
 
@@ -31,6 +33,37 @@ Vec3 transformError(const Mat4& m, const Vec3& p, const Vec3& e) {
     out[r] = (1.0 + gammaBound(3)) * absMe + gammaBound(3) * absMp;
   }
   return out;
+}
+
+/// Surface crossings of one instance already counted by a shadow ray, to recognise the same crossing reported again
+/// by a neighbouring primitive (a shared edge or vertex, a tube joint). Fixed size, no allocation: boundary hits
+/// are rare (only exact edge/vertex hits of triangles, caps and seams of capsules), and past kSize the oldest
+/// entries are overwritten (a later duplicate of an overwritten crossing is then counted again).
+class CountedCrossings {
+ public:
+  /// True if a crossing at t (rounding error tError) was counted already; otherwise records it and returns false.
+  bool seenOrAdd(double t, double tError) {
+    for (uint32_t i = 0, n = std::min(n_, kSize); i < n; ++i)
+      if (std::abs(t - t_[i]) <= tError + error_[i]) return true;
+    t_[n_ & (kSize - 1)] = t;
+    error_[n_ & (kSize - 1)] = tError;
+    ++n_;
+    return false;
+  }
+  void clear() { n_ = 0; }
+
+ private:
+  static constexpr uint32_t kSize = 16;  // a power of two
+  double t_[kSize];
+  double error_[kSize];
+  uint32_t n_ = 0;
+};
+
+/// Same size and same bytes (NaN compares equal to itself, -0 differs from 0: conservative for "unchanged").
+template <typename T>
+bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
 Vec3 safeNormalize(const Vec3& v, const Vec3& fallback) {
@@ -79,11 +112,57 @@ void Scene::setCapsules(uint32_t id, CapsuleSet c) {
   o.capsules = std::move(c);
   topDirty_ = true;
 }
+bool Scene::updateMesh(uint32_t id, TriangleMesh mesh) {
+  Object& o = objects_[id];
+  if (!o.alive || o.dirty || o.type != GeometryType::Triangles || !sameBits(o.mesh.positions, mesh.positions) ||
+      !sameBits(o.mesh.triangles, mesh.triangles)) {
+    setMesh(id, std::move(mesh));
+    return true;
+  }
+  o.mesh = std::move(mesh);  // the BVH, leaf order (leafTris) and bounds stay valid
+  sanitizeColors(o);
+  return false;
+}
+bool Scene::updateSpheres(uint32_t id, SphereSet s) {
+  Object& o = objects_[id];
+  if (!o.alive || o.dirty || o.type != GeometryType::Spheres || !sameBits(o.spheres.centers, s.centers) ||
+      !sameBits(o.spheres.radii, s.radii)) {
+    setSpheres(id, std::move(s));
+    return true;
+  }
+  o.spheres = std::move(s);
+  sanitizeColors(o);
+  return false;
+}
+bool Scene::updateCapsules(uint32_t id, CapsuleSet c) {
+  Object& o = objects_[id];
+  if (!o.alive || o.dirty || o.type != GeometryType::Capsules || !sameBits(o.capsules.p0, c.p0) ||
+      !sameBits(o.capsules.p1, c.p1) || !sameBits(o.capsules.radii, c.radii)) {
+    setCapsules(id, std::move(c));
+    return true;
+  }
+  o.capsules = std::move(c);
+  sanitizeColors(o);
+  return false;
+}
 void Scene::removeObject(uint32_t id) {
   objects_[id] = Object{};
   objects_[id].alive = false;
   objects_[id].dirty = false;
   topDirty_ = true;
+}
+
+void Scene::sanitizeColors(Object& o) {
+  // Colours outside [0,1] or non-finite are clamped (alpha NaN -> 1) so no NaN can reach shading
+  auto fixColors = [](std::vector<Color4>& cs) {
+    for (Color4& c : cs)
+      for (int k = 0; k < 4; ++k) c[k] = std::isfinite(c[k]) ? std::clamp(c[k], 0.0f, 1.0f) : (k == 3 ? 1.0f : 0.0f);
+  };
+  fixColors(o.mesh.vertexColors);
+  fixColors(o.mesh.triangleColors);
+  fixColors(o.spheres.colors);
+  fixColors(o.capsules.colors0);
+  fixColors(o.capsules.colors1);
 }
 
 void Scene::rebuildObject(Object& o, CommitStats& st) {
@@ -98,16 +177,7 @@ void Scene::rebuildObject(Object& o, CommitStats& st) {
     o.bounds.extend(b);
   };
 
-  // Colours outside [0,1] or non-finite are clamped (alpha NaN -> 1) so no NaN can reach shading
-  auto fixColors = [](std::vector<Color4>& cs) {
-    for (Color4& c : cs)
-      for (int k = 0; k < 4; ++k) c[k] = std::isfinite(c[k]) ? std::clamp(c[k], 0.0f, 1.0f) : (k == 3 ? 1.0f : 0.0f);
-  };
-  fixColors(o.mesh.vertexColors);
-  fixColors(o.mesh.triangleColors);
-  fixColors(o.spheres.colors);
-  fixColors(o.capsules.colors0);
-  fixColors(o.capsules.colors1);
+  sanitizeColors(o);
 
   // Boxes of valid primitives; non-finite and degenerate ones are left out of the BVH
   if (o.type == GeometryType::Triangles) {
@@ -201,8 +271,21 @@ uint32_t Scene::addMaterial(const Material& m) {
   return uint32_t(materials_.size() - 1);
 }
 uint32_t Scene::addTexture(Texture t) {
+  if (!freeTextures_.empty()) {
+    uint32_t id = freeTextures_.back();
+    freeTextures_.pop_back();
+    textures_[id] = std::move(t);
+    return id;
+  }
   textures_.push_back(std::move(t));
   return uint32_t(textures_.size() - 1);
+}
+void Scene::setTexture(uint32_t id, Texture t) {
+  textures_[id] = std::move(t);
+}
+void Scene::removeTexture(uint32_t id) {
+  textures_[id] = Texture{};  // releases the texels
+  freeTextures_.push_back(id);
 }
 
 namespace {
@@ -427,6 +510,10 @@ SceneStats Scene::stats() const {
   }
   s.bvhNodes += top_.nodes().size();
   s.bvhBytes += top_.memoryBytes();
+  for (const Texture& t : textures_) {
+    s.textures += !t.rgba.empty();
+    s.textureBytes += t.rgba.capacity();
+  }
   return s;
 }
 
@@ -516,6 +603,7 @@ bool Scene::intersect(const Ray& ray, Hit& hit, uint64_t* nodes) const {
 
 Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes) const {
   Color atten(1.0f);
+  CountedCrossings counted;
   double tMax = ray.tMax;
   bool blocked = top_.traverse<true>(
       ray, tMax,
@@ -532,19 +620,24 @@ Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes) const 
           }
           double tm = r.tMax;
           const TriangleRay tr(r);
+          counted.clear();  // crossings are shared only between primitives of one object
           bool stop = o.bvh.traverse<true>(
               r, tm,
               [&](uint32_t f, uint32_t c, double&) {
                 for (uint32_t k = f; k < f + c; ++k) {
-                  // Every crossing of a transmissive surface multiplies by kt; an opaque one blocks
+                  // Every crossing of a transmissive surface multiplies by kt once; an opaque one blocks. A hit on a
+                  // primitive boundary that coincides (within both rounding bounds) with a boundary hit counted
+                  // already is the same crossing seen by a neighbour (shared edge or vertex, tube joint): skipped.
                   Ray rr = r;
                   for (int guard = 0; guard < 4; ++guard) {
                     std::optional<PrimHit> h;
                     h = intersectLeafSlot(o, k, rr, tr);
                     if (!h) break;
                     if (opaque) return true;
-                    atten *= kt;
-                    if (maxComponent(atten) < cutoff) return true;
+                    if (!h->boundary || !counted.seenOrAdd(h->t, h->tError)) {
+                      atten *= kt;
+                      if (maxComponent(atten) < cutoff) return true;
+                    }
                     if (o.type == GeometryType::Triangles) break;  // a triangle is crossed once
                     rr.tMin = h->t;
                   }

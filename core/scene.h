@@ -84,6 +84,8 @@ struct CommitStats {
 struct SceneStats {
   std::size_t triangles = 0, spheres = 0, capsules = 0, objects = 0, instances = 0;
   std::size_t bvhNodes = 0, bvhBytes = 0, geometryBytes = 0;
+  std::size_t textures = 0;      ///< Textures holding texels (colour maps included).
+  std::size_t textureBytes = 0;  ///< Memory of their texels, bytes (allocated capacity).
 };
 
 class Scene {
@@ -97,6 +99,14 @@ class Scene {
   void setMesh(uint32_t object, TriangleMesh mesh);
   void setSpheres(uint32_t object, SphereSet spheres);
   void setCapsules(uint32_t object, CapsuleSet capsules);
+  /// Replaces an object's data like setMesh / setSpheres / setCapsules, but keeps its BVH when the geometry is
+  /// bit-for-bit the one it was built from (triangles: positions and triangles; spheres: centres and radii;
+  /// capsules: end points and radii), so attribute-only edits (colours, colour-map coordinates and map, normals,
+  /// texture coordinates) rebuild nothing. Returns true if the geometry changed (rebuilt at the next commit).
+  /// Cost: one comparison of the geometry arrays.
+  bool updateMesh(uint32_t object, TriangleMesh mesh);
+  bool updateSpheres(uint32_t object, SphereSet spheres);
+  bool updateCapsules(uint32_t object, CapsuleSet capsules);
   /// Frees an object's data; instances of it become invisible.
   void removeObject(uint32_t object);
   std::size_t objectCount() const { return objects_.size(); }
@@ -123,9 +133,21 @@ class Scene {
   const Material& material(uint32_t id) const { return materials_[id]; }
   std::size_t materialCount() const { return materials_.size(); }
   void clearMaterials() { materials_.clear(); }
+  /// Adds a texture; returns its id, reusing the id of a removed texture when there is one.
   uint32_t addTexture(Texture t);
+  /// Replaces texture `id` in place: materials and meshes referring to it see the new texels from the next
+  /// frame on; nothing is rebuilt.
+  void setTexture(uint32_t id, Texture t);
+  /// Frees texture `id`'s texels (id must not be removed already); a later addTexture may return the id again.
+  /// Until then anything still referring to it samples white (an empty texture).
+  void removeTexture(uint32_t id);
   const Texture& texture(uint32_t id) const { return textures_[id]; }
-  void clearTextures() { textures_.clear(); }
+  /// Texture slots, removed ones included (ids are below this).
+  std::size_t textureCount() const { return textures_.size(); }
+  void clearTextures() {
+    textures_.clear();
+    freeTextures_.clear();
+  }
   std::vector<Light>& lights() { return lights_; }
   const std::vector<Light>& lights() const { return lights_; }
 
@@ -158,7 +180,10 @@ class Scene {
   bool intersect(const Ray& ray, Hit& hit, uint64_t* nodes = nullptr) const;
 
   /// Transmittance along a shadow ray over (tMin, tMax): zero if an opaque surface blocks it, otherwise the
-  /// product of kt of every transmissive surface crossed. Stops early once below cutoff (returns zero).
+  /// product of kt of every transmissive surface crossed. A surface crossed once attenuates once: a crossing that
+  /// several primitives of one object report (a ray exactly through an edge or vertex shared by triangles, or
+  /// through the joint of two capsules) counts once; boundary hits of one object closer than the sum of their
+  /// rounding-error bounds (PrimHit::tError) are that one crossing. Stops early once below cutoff (returns zero).
   Color transmittance(const Ray& ray, float cutoff, uint64_t* nodes = nullptr) const;
 
   /// Surface data of a hit.
@@ -187,6 +212,8 @@ class Scene {
   };
 
   void rebuildObject(Object& o, CommitStats& st);
+  /// Clamps an object's colours to [0,1] (non-finite: 0, alpha 1) so no NaN can reach shading.
+  static void sanitizeColors(Object& o);
   /// Tests the primitive in BVH leaf slot `slot` of o against r (tr: r's precomputed triangle setup).
   static std::optional<PrimHit> intersectLeafSlot(const Object& o, uint32_t slot, const Ray& r, const TriangleRay& tr);
   bool intersectObject(const Object& o, uint32_t instance, const Ray& ray, double& tMax, Hit& hit,
@@ -198,6 +225,7 @@ class Scene {
   std::vector<Instance> instances_;
   std::vector<Material> materials_;
   std::vector<Texture> textures_;
+  std::vector<uint32_t> freeTextures_;  ///< Ids of removed textures, reused by addTexture.
   std::vector<Light> lights_;
 
   Bvh top_;

@@ -47,6 +47,14 @@ struct CapsuleSet {
 struct PrimHit {
   double t;
   double u, v;
+  /// Bound on the absolute rounding error of t (ray-parameter units, >= 0): two hits of one crossing computed by
+  /// different primitives differ by at most the sum of their bounds. Triangles and capsules; 0 for spheres.
+  double tError = 0.0;
+  /// The hit lies on the primitive's boundary, where a neighbour sharing that boundary can report the same
+  /// crossing: a triangle's edge or vertex (an edge function exactly zero, the only case in which the watertight
+  /// test accepts a ray for two triangles), a capsule's end cap or the seam where cap and body meet (where
+  /// consecutive capsules of a tube meet). Default false (spheres never set it).
+  bool boundary = false;
 };
 
 /// Per-ray constants of the watertight triangle test (axis permutation and shear), computed once per ray.

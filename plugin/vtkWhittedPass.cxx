@@ -365,6 +365,8 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
   this->LastNumberOfSpheres = sstats.spheres;
   this->LastNumberOfTubes = sstats.capsules;
   this->LastBVHBytes = sstats.bvhBytes;
+  this->LastNumberOfTextures = sstats.textures;
+  this->LastTextureBytes = sstats.textureBytes;
   this->LastSize[0] = traceWidth;
   this->LastSize[1] = traceHeight;
   this->LastNumberOfGeometriesConverted = conv.GeometriesConverted;
@@ -411,6 +413,7 @@ void vtkWhittedPass::FailFrame(vtkWhittedSceneConverter* converter, const char* 
   this->LastRefractionRays = this->LastRaysSavedByThreshold = this->LastRaysSavedByDepth = 0;
   this->LastNumberOfTriangles = this->LastNumberOfSpheres = this->LastNumberOfTubes = 0;
   this->LastBVHBytes = 0;
+  this->LastNumberOfTextures = this->LastTextureBytes = 0;
   this->LastSize[0] = this->LastSize[1] = 0;
   this->LastNumberOfGeometriesConverted = this->LastNumberOfObjectsRebuilt = 0;
   this->LastTopLevelRebuilt = false;

@@ -177,6 +177,8 @@ public:
    * REFLECTANCE: weight of the mirror-reflected ray, 1 value (grey) or 3 (RGB) in [0,1]. Default 0.
    * TRANSMITTANCE: weight of the transmitted (refracted) ray and the filter applied to shadow rays
    * crossing the actor, 1 or 3 values in [0,1]. Default 1 - Opacity.
+   * Energy: where REFLECTANCE + TRANSMITTANCE exceeds 1 in some channel, both are scaled (all
+   * channels) by 1 / the largest channel sum, with one warning per actor.
    * INDEX_OF_REFRACTION: index of the actor's inside (outside is 1). Default 1 (no bending).
    */
   static vtkInformationDoubleVectorKey* REFLECTANCE();
@@ -213,12 +215,15 @@ public:
   ///@{
   /**
    * Scene of the last frame: triangles, spheres (points as spheres), tubes (lines as tubes), BVH
-   * memory in bytes, image size.
+   * memory in bytes, textures held (actor textures and colour maps of
+   * InterpolateScalarsBeforeMapping) and their memory in bytes, image size.
    */
   vtkGetMacro(LastNumberOfTriangles, vtkTypeUInt64);
   vtkGetMacro(LastNumberOfSpheres, vtkTypeUInt64);
   vtkGetMacro(LastNumberOfTubes, vtkTypeUInt64);
   vtkGetMacro(LastBVHBytes, vtkTypeUInt64);
+  vtkGetMacro(LastNumberOfTextures, vtkTypeUInt64);
+  vtkGetMacro(LastTextureBytes, vtkTypeUInt64);
   vtkGetVector2Macro(LastSize, int);
   ///@}
 
@@ -303,6 +308,8 @@ protected:
   vtkTypeUInt64 LastNumberOfSpheres = 0;
   vtkTypeUInt64 LastNumberOfTubes = 0;
   vtkTypeUInt64 LastBVHBytes = 0;
+  vtkTypeUInt64 LastNumberOfTextures = 0;
+  vtkTypeUInt64 LastTextureBytes = 0;
   int LastSize[2] = { 0, 0 };
   int LastNumberOfGeometriesConverted = 0;
   int LastNumberOfObjectsRebuilt = 0;

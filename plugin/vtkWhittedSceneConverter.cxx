@@ -40,6 +40,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <set>
 #include <string>
@@ -231,7 +232,7 @@ std::string SanitizeMessage(uint32_t bits)
     ((bits & (1u << 6)) ? " (an INDEX_OF_REFRACTION <= 0 or NaN becomes 1)" : "");
 }
 
-// Warning bits of input problems (distinct from sanitizeMaterial's bits 0-7 and the 1 << 16..18
+// Warning bits of input problems (distinct from sanitizeMaterial's bits 0-8 and the 1 << 16..18
 // bits of unsupported settings)
 enum ProblemBit : uint32_t
 {
@@ -335,7 +336,6 @@ struct vtkWhittedSceneConverter::Internals
   std::map<vtkTexture*, CubeEntry> CubeTextures;
   std::vector<uint32_t> FreeObjects;
   std::vector<std::pair<uint32_t, uint32_t>> FreeInstances; // (instance, material)
-  int DeadTextures = 0;
   std::set<std::pair<vtkProp*, uint64_t>> Warned;
 
   vtkObject* Owner = nullptr;
@@ -360,7 +360,6 @@ struct vtkWhittedSceneConverter::Internals
     this->FreeObjects.clear();
     this->FreeInstances.clear();
     this->Surfaces.clear();
-    this->DeadTextures = 0;
   }
 
   void WarnOnce(vtkProp* prop, uint64_t what, const std::string& msg)
@@ -373,21 +372,28 @@ struct vtkWhittedSceneConverter::Internals
   }
 
   //----------------------------------------------------------------------------
+  // Stores converted primitives of one kind in the core scene: in the geometry's existing object
+  // (whose BVH is kept when only attributes such as colours changed), a freed one, or a new one.
   uint32_t StoreObject(int existing, int kind, vtkWhittedPolyDataConverter::Primitives& c)
   {
-    uint32_t id;
-    bool reuse = existing >= 0;
-    if (reuse)
+    if (existing >= 0)
     {
-      id = static_cast<uint32_t>(existing);
+      const uint32_t id = static_cast<uint32_t>(existing);
+      switch (kind)
+      {
+        case KindTriangles:
+          this->Scene.updateMesh(id, std::move(c.Mesh));
+          break;
+        case KindSpheres:
+          this->Scene.updateSpheres(id, std::move(c.Spheres));
+          break;
+        default:
+          this->Scene.updateCapsules(id, std::move(c.Capsules));
+          break;
+      }
+      return id;
     }
-    else if (!this->FreeObjects.empty())
-    {
-      id = this->FreeObjects.back();
-      this->FreeObjects.pop_back();
-      reuse = true;
-    }
-    if (!reuse)
+    if (this->FreeObjects.empty())
     {
       switch (kind)
       {
@@ -399,6 +405,8 @@ struct vtkWhittedSceneConverter::Internals
           return this->Scene.addCapsules(std::move(c.Capsules));
       }
     }
+    const uint32_t id = this->FreeObjects.back();
+    this->FreeObjects.pop_back();
     switch (kind)
     {
       case KindTriangles:
@@ -451,14 +459,19 @@ struct vtkWhittedSceneConverter::Internals
     vtkWhittedPolyDataConverter::Convert(poly, mapper, opts, radiusScale(), c);
     ++converted;
 
-    if (g.ColorTexture >= 0)
-    {
-      ++this->DeadTextures;
-      g.ColorTexture = -1;
-    }
+    // The colour map (InterpolateScalarsBeforeMapping) replaces the geometry's previous one in
+    // place, so a lookup-table edit changes no id (and the mesh referring to it keeps its BVH)
     if (c.HasColorTexture && c.ColorTexture.width > 0)
     {
-      g.ColorTexture = static_cast<int>(this->Scene.addTexture(std::move(c.ColorTexture)));
+      if (g.ColorTexture >= 0)
+      {
+        this->Scene.setTexture(
+          static_cast<uint32_t>(g.ColorTexture), std::move(c.ColorTexture));
+      }
+      else
+      {
+        g.ColorTexture = static_cast<int>(this->Scene.addTexture(std::move(c.ColorTexture)));
+      }
       // InterpolateScalarsBeforeMapping: the interpolated coordinate is looked up in the colour map
       // before lighting, as VTK's shader does (so highlights are not tinted by the map)
       if (c.Mesh.texcoords.size() == c.Mesh.positions.size())
@@ -470,6 +483,10 @@ struct vtkWhittedSceneConverter::Internals
         }
         c.Mesh.colorMap = g.ColorTexture;
       }
+    }
+    else
+    {
+      this->FreeTexture(g.ColorTexture);
     }
     const bool has[KindCount] = { !c.Mesh.triangles.empty(), !c.Spheres.centers.empty(),
       !c.Capsules.p0.empty() };
@@ -513,17 +530,35 @@ struct vtkWhittedSceneConverter::Internals
     {
       return e.Id;
     }
-    if (e.Id >= 0)
-    {
-      ++this->DeadTextures;
-    }
     whitted::Texture t = vtkWhittedPolyDataConverter::ConvertImage(
       image, image->GetPointData()->GetScalars(), texture);
     t.repeat = texture->GetRepeat() != 0;
     t.interpolate = texture->GetInterpolate() != 0;
-    e.Id = t.width > 0 ? static_cast<int>(this->Scene.addTexture(std::move(t))) : -1;
+    // An edited texture replaces its previous texels in place (same id: materials stay valid)
+    if (t.width <= 0)
+    {
+      this->FreeTexture(e.Id);
+    }
+    else if (e.Id >= 0)
+    {
+      this->Scene.setTexture(static_cast<uint32_t>(e.Id), std::move(t));
+    }
+    else
+    {
+      e.Id = static_cast<int>(this->Scene.addTexture(std::move(t)));
+    }
     e.Stamp = stamp;
     return e.Id;
+  }
+
+  // Frees a scene texture (its id may be reused by the next addTexture) and sets id to -1.
+  void FreeTexture(int& id)
+  {
+    if (id >= 0)
+    {
+      this->Scene.removeTexture(static_cast<uint32_t>(id));
+      id = -1;
+    }
   }
 
   //----------------------------------------------------------------------------
@@ -551,15 +586,25 @@ struct vtkWhittedSceneConverter::Internals
     {
       for (int i = 0; i < 6; ++i)
       {
-        if (e.Faces[i] >= 0)
-        {
-          ++this->DeadTextures;
-        }
         whitted::Texture t = vtkWhittedPolyDataConverter::ConvertImage(
           images[i], images[i]->GetPointData()->GetScalars(), texture);
         t.repeat = false;
         t.interpolate = texture->GetInterpolate() != 0;
-        e.Faces[i] = t.width > 0 ? static_cast<int>(this->Scene.addTexture(std::move(t))) : -1;
+        // Replaced in place, like any edited texture
+        int id = e.Faces[i];
+        if (t.width <= 0)
+        {
+          this->FreeTexture(id);
+        }
+        else if (id >= 0)
+        {
+          this->Scene.setTexture(static_cast<uint32_t>(id), std::move(t));
+        }
+        else
+        {
+          id = static_cast<int>(this->Scene.addTexture(std::move(t)));
+        }
+        e.Faces[i] = id;
       }
       e.Stamp = stamp;
     }
@@ -756,9 +801,29 @@ struct vtkWhittedSceneConverter::Internals
       }
     }
 
+    // Largest channel sum of kr + kt as sanitizeMaterial sees it after clamping each to [0,1] (for
+    // the energy warning)
+    float energy = 0.0f;
+    for (int i = 0; i < 3; ++i)
+    {
+      auto clamp01 = [](float v) { return std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f; };
+      energy = std::max(energy, clamp01(m.reflectance[i]) + clamp01(m.transmittance[i]));
+    }
     if (const uint32_t fixed = whitted::sanitizeMaterial(m))
     {
-      this->WarnOnce(actor, fixed, SanitizeMessage(fixed));
+      if (const uint32_t clamped = fixed & ~whitted::kMaterialEnergyScaled)
+      {
+        this->WarnOnce(actor, clamped, SanitizeMessage(clamped));
+      }
+      if (fixed & whitted::kMaterialEnergyScaled)
+      {
+        char sum[32];
+        std::snprintf(sum, sizeof(sum), "%.4g", energy);
+        this->WarnOnce(actor, whitted::kMaterialEnergyScaled,
+          std::string("REFLECTANCE + TRANSMITTANCE is above 1 (largest channel sum ") + sum +
+            "): both scaled by 1/" + sum +
+            " so that sum is 1 (a surface cannot return more light than reaches it)");
+      }
     }
     return m;
   }
@@ -1103,11 +1168,6 @@ void vtkWhittedSceneConverter::Update(
   in.Owner = owner;
   result = Result();
 
-  // Textures cannot be freed one by one in the core scene: start over when too many are dead
-  if (in.DeadTextures > 32)
-  {
-    in.Clear();
-  }
   ++in.Frame;
 
   // Lights and background
@@ -1222,10 +1282,7 @@ void vtkWhittedSceneConverter::Update(
       {
         in.FreeObject(it->second.Objects[k]);
       }
-      if (it->second.ColorTexture >= 0)
-      {
-        ++in.DeadTextures;
-      }
+      in.FreeTexture(it->second.ColorTexture);
       it = in.Geometries.erase(it);
     }
     else
@@ -1241,7 +1298,11 @@ void vtkWhittedSceneConverter::Update(
   {
     if (it->second.LastFrame != in.Frame)
     {
-      in.DeadTextures += 6;
+      for (int32_t& face : it->second.Faces)
+      {
+        int id = face;
+        in.FreeTexture(id);
+      }
       it = in.CubeTextures.erase(it);
     }
     else
@@ -1253,7 +1314,7 @@ void vtkWhittedSceneConverter::Update(
   {
     if (it->second.LastFrame != in.Frame)
     {
-      ++in.DeadTextures;
+      in.FreeTexture(it->second.Id);
       it = in.Textures.erase(it);
     }
     else

@@ -8,7 +8,10 @@
  *
  * - Geometry is cached per (mapper, input data object or composite block, geometry-relevant
  *   property settings) and converted again only when the mapper, its lookup table or the input
- *   changed (MTime). Actors that share a mapper share one object (instancing).
+ *   changed (MTime). Actors that share a mapper share one object (instancing). A conversion that
+ *   changes only attributes (colours after a lookup-table edit) keeps the object's BVH.
+ * - Colour maps (InterpolateScalarsBeforeMapping) and actor textures are replaced in place when
+ *   they change and freed when no longer used (texture memory does not grow with edits).
  * - Each traced actor (or block) is an instance of that object with the actor's matrix; moving an
  *   actor changes only the instance transform (the top-level BVH, never an object BVH).
  * - Materials and lights are cheap and are rebuilt every frame from vtkProperty / vtkLight.

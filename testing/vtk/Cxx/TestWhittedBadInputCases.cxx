@@ -517,13 +517,28 @@ std::vector<Case> Cases()
     },
     []
     {
+      // Clamped to kr 1, kt (0, 0.5, 0.5): kr + kt reaches 1.5, so both are scaled by 1/1.5
       auto a = MaterialSphere();
-      SetWhitted(a->GetProperty(), 1.0);
-      double kt[3] = { 0.0, 0.5, 0.5 };
+      SetWhitted(a->GetProperty(), 1.0 / 1.5);
+      double kt[3] = { 0.0, 0.5 / 1.5, 0.5 / 1.5 };
       a->GetProperty()->GetInformation()->Set(vtkWhittedPass::TRANSMITTANCE(), kt, 3);
       return a;
     },
-    { "REFLECTANCE, TRANSMITTANCE out of range" } });
+    { "REFLECTANCE, TRANSMITTANCE out of range", "REFLECTANCE + TRANSMITTANCE is above 1" } });
+  c.push_back({ "REFLECTANCE + TRANSMITTANCE above 1",
+    []
+    {
+      auto a = MaterialSphere();
+      SetWhitted(a->GetProperty(), 0.8, 0.6);
+      return a;
+    },
+    []
+    {
+      auto a = MaterialSphere();
+      SetWhitted(a->GetProperty(), 0.8 / 1.4, 0.6 / 1.4);
+      return a;
+    },
+    { "REFLECTANCE + TRANSMITTANCE is above 1 (largest channel sum 1.4)" } });
   c.push_back({ "negative SpecularPower (vtkProperty clamps it)",
     []
     {

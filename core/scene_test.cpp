@@ -1,0 +1,95 @@
+// Scene editing without rebuilds: attribute-only updates keep object BVHs, textures are replaced and freed in
+// place (ids reused, memory not growing).
+#include "scene.h"
+#include "scenes.h"
+
+#include <gtest/gtest.h>
+
+using namespace whitted;
+
+namespace {
+
+Texture solid(int w, uint8_t r, uint8_t g, uint8_t b) {
+  Texture t;
+  t.width = w;
+  t.height = 1;
+  for (int i = 0; i < w; ++i) t.rgba.insert(t.rgba.end(), {r, g, b, 255});
+  return t;
+}
+
+}  // namespace
+
+// New colours on the same positions and triangles: no object BVH and no top level rebuilt, the new colours are
+// used; moved positions: rebuilt.
+TEST(Scene, UpdateMeshKeepsBvhWhenOnlyAttributesChange) {
+  Scene s;
+  TriangleMesh m = makeSphereMesh(Vec3(0.0), 1.0, 16, 8);
+  m.vertexColors.assign(m.positions.size(), Color4(1, 0, 0, 1));
+  uint32_t o = s.addMesh(m);
+  Material mat;
+  mat.lighting = false;
+  mat.colorSource = ColorSource::ScalarsAmbientAndDiffuse;
+  s.addInstance(o, Mat4(1.0), s.addMaterial(mat));
+  EXPECT_EQ(s.commit().objectsRebuilt, 1);
+
+  m.vertexColors.assign(m.positions.size(), Color4(0, 2, 0, 1));  // out of range: clamped to 1
+  EXPECT_FALSE(s.updateMesh(o, m));
+  CommitStats st = s.commit();
+  EXPECT_EQ(st.objectsRebuilt, 0);
+  EXPECT_FALSE(st.topLevelRebuilt);
+  Ray r;
+  r.origin = Vec3(0.1, 0.2, 5.0);
+  r.dir = Vec3(0, 0, -1);
+  Hit h;
+  ASSERT_TRUE(s.intersect(r, h));
+  SurfacePoint sp = s.surface(r, h);
+  EXPECT_EQ(sp.color, Color4(0, 1, 0, 1));
+
+  m.positions[5].x += 1e-12;  // any change of geometry rebuilds
+  EXPECT_TRUE(s.updateMesh(o, m));
+  EXPECT_EQ(s.commit().objectsRebuilt, 1);
+
+  // Spheres and capsules alike
+  SphereSet sp1;
+  sp1.centers = {Vec3(3, 0, 0)};
+  sp1.radii = {0.5};
+  uint32_t so = s.addSpheres(sp1);
+  CapsuleSet cs;
+  cs.p0 = {Vec3(-3, 0, 0)};
+  cs.p1 = {Vec3(-3, 1, 0)};
+  cs.radii = {0.2};
+  uint32_t co = s.addCapsules(cs);
+  s.addInstance(so, Mat4(1.0), 0);
+  s.addInstance(co, Mat4(1.0), 0);
+  s.commit();
+  sp1.colors = {Color4(0, 0, 1, 1)};
+  cs.colors0 = {Color4(0, 0, 1, 1)};
+  EXPECT_FALSE(s.updateSpheres(so, sp1));
+  EXPECT_FALSE(s.updateCapsules(co, cs));
+  EXPECT_EQ(s.commit().objectsRebuilt, 0);
+  cs.radii = {0.25};
+  EXPECT_TRUE(s.updateCapsules(co, cs));
+  EXPECT_EQ(s.commit().objectsRebuilt, 1);
+}
+
+// setTexture replaces in place; removeTexture frees the texels and addTexture reuses the id: 1000 replace or
+// remove/add cycles leave the slot count and the texture memory where they were.
+TEST(Scene, TexturesAreReplacedAndFreedInPlace) {
+  Scene s;
+  uint32_t a = s.addTexture(solid(256, 255, 0, 0));
+  uint32_t b = s.addTexture(solid(64, 0, 255, 0));
+  EXPECT_EQ(s.stats().textures, 2u);
+  const std::size_t bytes = s.stats().textureBytes;
+  for (int i = 0; i < 1000; ++i) {
+    s.setTexture(a, solid(256, uint8_t(i), 0, 0));
+    s.removeTexture(b);
+    EXPECT_EQ(s.addTexture(solid(64, 0, uint8_t(i), 0)), b);
+  }
+  EXPECT_EQ(s.textureCount(), 2u);
+  EXPECT_EQ(s.stats().textureBytes, bytes);
+  EXPECT_NEAR(s.texture(a).sample(0.5f, 0.5f).r, 999 % 256 / 255.0f, 1e-6f);
+  s.removeTexture(a);
+  EXPECT_EQ(s.stats().textures, 1u);
+  EXPECT_EQ(s.stats().textureBytes, 64u * 4u);
+  EXPECT_EQ(s.texture(a).sample(0.5f, 0.5f), Color4(1.0f));  // a removed texture samples white
+}
