@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <exception>
+#include <limits>
 #include <numeric>
 #include <thread>
 
@@ -181,6 +182,8 @@ struct Builder {
 
 void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids, const BvhBuildOptions& opt) {
   nodes_.clear();
+  wide_.clear();
+  bounds_ = Bounds3();
   primIndices_.clear();
   depth_ = 0;
   if (boxes.empty()) return;
@@ -191,15 +194,93 @@ void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& cent
   Builder b{boxes, centroids, opt, nodes_, primIndices_};
   b.split(0, 0, uint32_t(boxes.size()), 1);
   depth_ = b.maxDepth;
-  nodes_.shrink_to_fit();
+  bounds_.lo = Vec3(nodes_[0].lo[0], nodes_[0].lo[1], nodes_[0].lo[2]);
+  bounds_.hi = Vec3(nodes_[0].hi[0], nodes_[0].hi[1], nodes_[0].hi[2]);
+  collapse();
+  nodes_ = std::vector<BvhNode>();  // the wide nodes are the tree from here on
 }
 
-Bounds3 Bvh::bounds() const {
-  Bounds3 b;
-  if (nodes_.empty()) return b;
-  b.lo = Vec3(nodes_[0].lo[0], nodes_[0].lo[1], nodes_[0].lo[2]);
-  b.hi = Vec3(nodes_[0].hi[0], nodes_[0].hi[1], nodes_[0].hi[2]);
-  return b;
+void Bvh::collapse() {
+  // Each wide node takes a binary inner node's children and keeps opening the inner child of largest surface
+  // area until it has four (Embree's and tinybvh's collapse). Depth-first, so a subtree's nodes are contiguous.
+  wide_.clear();
+  if (nodes_.empty()) return;
+  wide_.reserve(nodes_.size() / 2 + 1);
+  auto area = [&](uint32_t i) {
+    const BvhNode& n = nodes_[i];
+    const double dx = double(n.hi[0]) - n.lo[0], dy = double(n.hi[1]) - n.lo[1], dz = double(n.hi[2]) - n.lo[2];
+    return dx * dy + dy * dz + dz * dx;
+  };
+  auto emptyNode = []() {
+    BvhWideNode w;
+    for (int c = 0; c < 4; ++c) {
+      for (int k = 0; k < 3; ++k) {
+        w.b[k][c] = std::numeric_limits<float>::infinity();
+        w.b[3 + k][c] = -std::numeric_limits<float>::infinity();
+      }
+      w.first[c] = 0;
+      w.count[c] = BvhWideNode::kEmpty;
+    }
+    return w;
+  };
+  // Explicit work list (binary node, wide slot) instead of recursion
+  std::vector<std::pair<uint32_t, uint32_t>> work;
+  wide_.push_back(emptyNode());
+  if (nodes_[0].count > 0) {  // a single leaf: one child
+    BvhWideNode& w = wide_[0];
+    for (int k = 0; k < 3; ++k) {
+      w.b[k][0] = nodes_[0].lo[k];
+      w.b[3 + k][0] = nodes_[0].hi[k];
+    }
+    w.first[0] = nodes_[0].first;
+    w.count[0] = nodes_[0].count;
+    return;
+  }
+  work.emplace_back(0u, 0u);
+  while (!work.empty()) {
+    const auto [bin, slot] = work.back();
+    work.pop_back();
+    uint32_t children[4] = {nodes_[bin].first, nodes_[bin].first + 1, 0, 0};
+    int n = 2;
+    while (n < 4) {
+      int best = -1;
+      double bestArea = -1.0;
+      for (int c = 0; c < n; ++c)
+        if (nodes_[children[c]].count == 0 && area(children[c]) > bestArea) {
+          bestArea = area(children[c]);
+          best = c;
+        }
+      if (best < 0) break;
+      const uint32_t opened = children[best];
+      children[best] = nodes_[opened].first;
+      children[n++] = nodes_[opened].first + 1;
+    }
+    BvhWideNode w = emptyNode();
+    for (int c = 0; c < n; ++c) {
+      const BvhNode& child = nodes_[children[c]];
+      for (int k = 0; k < 3; ++k) {
+        w.b[k][c] = child.lo[k];
+        w.b[3 + k][c] = child.hi[k];
+      }
+      if (child.count > 0) {
+        w.first[c] = child.first;
+        w.count[c] = child.count;
+      } else {
+        w.first[c] = 0;  // set below, once the wide child is allocated
+        w.count[c] = 0;
+      }
+    }
+    // Allocate the wide children of inner slots, then queue them
+    for (int c = 0; c < n; ++c)
+      if (w.count[c] == 0) {
+        w.first[c] = uint32_t(wide_.size());
+        wide_.push_back(emptyNode());
+        work.emplace_back(children[c], w.first[c]);
+      }
+    wide_[slot] = w;
+  }
+  wide_.shrink_to_fit();
 }
+
 
 }  // namespace whitted
