@@ -98,13 +98,19 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
   if (!m.lighting) return amb + dif;
   if (inside) amb *= m.transmittance;  // ambient light reaches the inside of a transmissive object only through it
 
+  // Leave out what cannot be seen: a surface with no diffuse and no specular term (a pure mirror or clear glass)
+  // traces no shadow ray, a light of zero colour or intensity none either, and pow() runs only with a specular
+  // term. The result is bit-identical: each skipped term would have added exactly 0.
+  const bool wantDiffuse = maxComponent(dif) > 0.0f, wantSpecular = maxComponent(spe) > 0.0f;
+  if (!wantDiffuse && !wantSpecular) return amb;
   Color diffuse(0.0f), specular(0.0f);
   for (const Light& light : scene_.lights()) {
+    Color lc = light.color * light.intensity;
+    if (!(maxComponent(lc) > 0.0f)) continue;
     LightSample ls = sampleLight(light, sp.p);
     double att = ls.attenuation;
     double df = std::max(0.0, att * glm::dot(n, ls.toLight));
     if (!(df > 0.0)) continue;  // VTK: specular only where df > 0
-    Color lc = light.color * light.intensity;
 
     if constexpr (Shadows) {
       if (light.castShadows) {
@@ -121,16 +127,18 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
       }
     }
 
-    double sf;
-    if (s_.headlightShading) {
-      sf = std::pow(df, double(m.specularPower));
-    } else {
-      Vec3 ld = -ls.toLight;
-      Vec3 r = ld - 2.0 * glm::dot(n, ld) * n;
-      sf = att * std::pow(std::max(0.0, glm::dot(r, v)), double(m.specularPower));
-    }
     diffuse += float(df) * lc;
-    specular += float(sf) * lc;
+    if (wantSpecular) {
+      double sf;
+      if (s_.headlightShading) {
+        sf = std::pow(df, double(m.specularPower));
+      } else {
+        Vec3 ld = -ls.toLight;
+        Vec3 r = ld - 2.0 * glm::dot(n, ld) * n;
+        sf = att * std::pow(std::max(0.0, glm::dot(r, v)), double(m.specularPower));
+      }
+      specular += float(sf) * lc;
+    }
   }
   return amb + dif * diffuse + spe * specular;
 }

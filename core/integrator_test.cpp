@@ -495,3 +495,32 @@ TEST(Integrator, BeerLambertAbsorption) {
     EXPECT_NEAR(smp.color.x, std::exp(-10.0 * absorption), 1e-6);
   }
 }
+
+// Leave out what cannot be seen: a pure mirror (no diffuse, no specular) traces no shadow ray, nor does a light of
+// zero intensity; a diffuse surface under a real light does. The image is the same as with every ray traced.
+TEST(Integrator, NoShadowRayWhoseContributionCannotBeSeen) {
+  Scene s;
+  Material mirror;
+  mirror.diffuse = 0.0f;
+  mirror.specular = 0.0f;
+  mirror.reflectance = Color(0.9f);
+  Material matte = unlit(Color(0.7f));
+  matte.lighting = true;
+  addObject(s, makeGrid(Vec3(-5, -5, 0), Vec3(10, 0, 0), Vec3(0, 10, 0), 1, 1), mirror);
+  addObject(s, makeGrid(Vec3(-5, -5, 3), Vec3(0, 10, 0), Vec3(10, 0, 0), 1, 1), matte);  // faces down, seen in it
+  Light on, off;
+  on.positional = true;
+  on.position = Vec3(0.5, 0.5, 1.5);
+  on.coneAngle = 180.0;
+  off = on;
+  off.intensity = 0.0f;
+  s.lights() = {on, off};
+  s.commit();
+  Integrator integ(s, IntegratorSettings{}, Vec3(0, 1, 0));
+  RayStats st;
+  Sample smp = integ.trace(ray(Vec3(0.2, 0.1, 1.0), Vec3(0, 0, -1)), st, Color(0.0f));
+  EXPECT_EQ(st.reflection, 1u);
+  EXPECT_EQ(st.shadow, 1u) << "one shadow ray: from the matte ceiling seen in the mirror, to the lit light only";
+  EXPECT_GT(smp.color.x, 0.0f);
+  EXPECT_EQ(st.safetyNetCatches(), 0u);
+}
