@@ -139,18 +139,25 @@ class Bvh {
         _mm_store_pd(tNear + 2 * half, t0);
         hitMask |= _mm_movemask_pd(_mm_cmple_pd(t0, t1)) << (2 * half);
       }
-      // Push the entered children farthest first, so the nearest is popped next
-      int order[4], k = 0;
-      for (int c = 0; c < 4; ++c)
-        if ((hitMask & (1 << c)) && n.count[c] != BvhWideNode::kEmpty) {  // a NaN ray "enters" even empty boxes
-          int j = k++;
-          while (j > 0 && tNear[order[j - 1]] < tNear[c]) {
-            order[j] = order[j - 1];
-            --j;
+      if constexpr (AnyHit) {
+        // Any hit ends the query (shadow rays): no ordering, every entered child is pushed as it comes
+        for (int c = 0; c < 4; ++c)
+          if ((hitMask & (1 << c)) && n.count[c] != BvhWideNode::kEmpty)  // a NaN ray "enters" even empty boxes
+            stack[sp++] = Entry{tNear[c], n.first[c], n.count[c]};
+      } else {
+        // Push the entered children farthest first, so the nearest is popped next
+        int order[4], k = 0;
+        for (int c = 0; c < 4; ++c)
+          if ((hitMask & (1 << c)) && n.count[c] != BvhWideNode::kEmpty) {  // NaN rays "enter" empty boxes too
+            int j = k++;
+            while (j > 0 && tNear[order[j - 1]] < tNear[c]) {
+              order[j] = order[j - 1];
+              --j;
+            }
+            order[j] = c;
           }
-          order[j] = c;
-        }
-      for (int j = 0; j < k; ++j) stack[sp++] = Entry{tNear[order[j]], n.first[order[j]], n.count[order[j]]};
+        for (int j = 0; j < k; ++j) stack[sp++] = Entry{tNear[order[j]], n.first[order[j]], n.count[order[j]]};
+      }
     }
     if (nodesVisited) *nodesVisited += visited;
     return hitAny;
