@@ -16,11 +16,10 @@ import sys
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkFiltersSources import vtkPlaneSource
-from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow, vtkSkybox,
-                                         vtkTexture, vtkWindowToImageFilter)
-import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer, vtkSkybox, vtkTexture
+from vtkmodules.util.numpy_support import numpy_to_vtk
 from whitted import vtkWhittedPass
+from whitted_imagetest import offscreen_render
 
 SIZE = 200
 ANGLE = 25.0
@@ -103,31 +102,17 @@ def reflected_directions(ren):
 
 
 def render(ren, with_pass=True):
-    win = vtkRenderWindow()
-    win.SetOffScreenRendering(1)
-    win.SetMultiSamples(0)
-    win.SetSize(SIZE, SIZE)
-    win.AddRenderer(ren)
     pass_ = None
     if with_pass:
         pass_ = vtkWhittedPass()
         pass_.SetShadows(False)
-        ren.SetPass(pass_)
-    win.Render()
-    f = vtkWindowToImageFilter()
-    f.SetInput(win)
-    f.ReadFrontBufferOff()
-    f.Update()
-    out = f.GetOutput()
-    image = vtk_to_numpy(out.GetPointData().GetScalars()).reshape(SIZE, SIZE, -1)[:, :, :3].astype(float)
-    stats = None
-    if pass_ is not None:
-        stats = (pass_.GetLastNumberOfTriangles(), pass_.GetLastNumberOfTracedActors(),
-                 pass_.GetLastNumberOfSafetyNetCatches())
-        ren.SetPass(None)
-    win.RemoveRenderer(ren)
-    win.Finalize()
-    return image, stats
+
+    def stats(p):
+        if p is None:
+            return None
+        return (p.GetLastNumberOfTriangles(), p.GetLastNumberOfTracedActors(), p.GetLastNumberOfSafetyNetCatches())
+
+    return offscreen_render(ren, SIZE, pass_, stats)
 
 
 def away_from_cell_borders(u, v):

@@ -18,11 +18,10 @@ import sys
 import numpy as np
 from vtkmodules.vtkCommonCore import vtkFloatArray
 from vtkmodules.vtkFiltersSources import vtkPlaneSource, vtkSphereSource
-from vtkmodules.vtkRenderingCore import (vtkActor, vtkLight, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow,
-                                         vtkWindowToImageFilter)
-import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+from vtkmodules.vtkRenderingCore import vtkActor, vtkLight, vtkPolyDataMapper, vtkRenderer
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from whitted import vtkWhittedPass
+from whitted_imagetest import offscreen_render
 
 LIGHT_BLUE = (0.55, 0.75, 0.95)
 PARAVIEW_BG = (0.32, 0.34, 0.43)
@@ -33,16 +32,6 @@ def check(condition, message):
     print(("ok    " if condition else "FAIL  ") + message)
     if not condition:
         failures.append(message)
-
-
-def grab(window):
-    f = vtkWindowToImageFilter()
-    f.SetInput(window)
-    f.ReadFrontBufferOff()
-    f.Update()
-    image = f.GetOutput()
-    w, h, _ = image.GetDimensions()
-    return vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3].astype(float)
 
 
 def sphere_actor(ren, center, radius, color, opacity=1.0, kr=None, kt=None, ior=None):
@@ -94,31 +83,23 @@ def spheres_scene(background, gradient_top=None):
 
 
 def render(ren, size, spp, adaptive, with_pass=True, shadows=True):
-    win = vtkRenderWindow()
-    win.SetOffScreenRendering(1)
-    win.SetMultiSamples(0)
-    win.SetSize(size, size)
-    win.AddRenderer(ren)
     pass_ = None
     if with_pass:
         pass_ = vtkWhittedPass()
         pass_.SetSamplesPerPixel(spp)
         pass_.SetAdaptiveSampling(adaptive)
         pass_.SetShadows(shadows)  # VTK's raster has none
-        ren.SetPass(pass_)
-    win.Render()
-    image = grab(win)
-    coverage = None
-    if pass_ is not None:
+
+    def coverage(p):
+        if p is None:
+            return None
         rgba, depth = vtkFloatArray(), vtkFloatArray()
-        pass_.GetLastFrame(rgba, depth)
-        coverage = (vtk_to_numpy(depth).reshape(size, size) < 1.0).astype(float)
-        check(pass_.GetLastNumberOfSafetyNetCatches() == 0,
-              f"safety nets caught nothing ({size}px, {spp} spp): {pass_.GetLastNumberOfSafetyNetCatches()}")
-        ren.SetPass(None)
-    win.RemoveRenderer(ren)
-    win.Finalize()
-    return image, coverage
+        p.GetLastFrame(rgba, depth)
+        check(p.GetLastNumberOfSafetyNetCatches() == 0,
+              f"safety nets caught nothing ({size}px, {spp} spp): {p.GetLastNumberOfSafetyNetCatches()}")
+        return (vtk_to_numpy(depth).reshape(size, size) < 1.0).astype(float)
+
+    return offscreen_render(ren, size, pass_, coverage)
 
 
 def box4(a):

@@ -1,0 +1,36 @@
+"""Shared helpers of the Python image tests: an offscreen render of one renderer and its framebuffer as numpy."""
+from vtkmodules.vtkRenderingCore import vtkRenderWindow, vtkWindowToImageFilter
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+
+def grab(window):
+    """The window's back buffer as a float array of RGB in 0..255, rows bottom to top."""
+    f = vtkWindowToImageFilter()
+    f.SetInput(window)
+    f.ReadFrontBufferOff()
+    f.Update()
+    image = f.GetOutput()
+    w, h, _ = image.GetDimensions()
+    return vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3].astype(float)
+
+
+def offscreen_render(ren, size, render_pass=None, after=None):
+    """Renders ren alone in an offscreen size x size window without multisampling, through render_pass if given,
+    and returns (RGB image, after(render_pass) or None); after runs while the frame is still the pass's last one.
+    The renderer is detached from the pass and the window afterwards, so it can be rendered again."""
+    win = vtkRenderWindow()
+    win.SetOffScreenRendering(1)
+    win.SetMultiSamples(0)
+    win.SetSize(size, size)
+    win.AddRenderer(ren)
+    if render_pass is not None:
+        ren.SetPass(render_pass)
+    win.Render()
+    image = grab(win)
+    extra = after(render_pass) if after else None
+    if render_pass is not None:
+        ren.SetPass(None)
+    win.RemoveRenderer(ren)
+    win.Finalize()
+    return image, extra
