@@ -181,7 +181,6 @@ struct Builder {
 }  // namespace
 
 void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids, const BvhBuildOptions& opt) {
-  nodes_.clear();
   wide_.clear();
   bounds_ = Bounds3();
   primIndices_.clear();
@@ -189,98 +188,75 @@ void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& cent
   if (boxes.empty()) return;
   primIndices_.resize(boxes.size());
   std::iota(primIndices_.begin(), primIndices_.end(), 0u);
-  nodes_.reserve(2 * boxes.size());
-  nodes_.push_back({});
-  Builder b{boxes, centroids, opt, nodes_, primIndices_};
+  // The binary SAH tree exists only here: it is collapsed into the wide traversal nodes and freed
+  std::vector<BvhNode> binary;
+  binary.reserve(2 * boxes.size());
+  binary.push_back({});
+  Builder b{boxes, centroids, opt, binary, primIndices_};
   b.split(0, 0, uint32_t(boxes.size()), 1);
   depth_ = b.maxDepth;
-  bounds_.lo = Vec3(nodes_[0].lo[0], nodes_[0].lo[1], nodes_[0].lo[2]);
-  bounds_.hi = Vec3(nodes_[0].hi[0], nodes_[0].hi[1], nodes_[0].hi[2]);
-  collapse();
-  nodes_ = std::vector<BvhNode>();  // the wide nodes are the tree from here on
+  bounds_.lo = Vec3(binary[0].lo[0], binary[0].lo[1], binary[0].lo[2]);
+  bounds_.hi = Vec3(binary[0].hi[0], binary[0].hi[1], binary[0].hi[2]);
+  collapse(binary);
 }
 
-void Bvh::collapse() {
+void Bvh::collapse(const std::vector<BvhNode>& binary) {
   // Each wide node takes a binary inner node's children and keeps opening the inner child of largest surface
-  // area until it has four (Embree's and tinybvh's collapse). Depth-first, so a subtree's nodes are contiguous.
-  wide_.clear();
-  if (nodes_.empty()) return;
-  wide_.reserve(nodes_.size() / 2 + 1);
+  // area until it has four (Embree's and tinybvh's collapse). A root leaf becomes a wide root with one child.
+  wide_.reserve(binary.size() / 2 + 1);
   auto area = [&](uint32_t i) {
-    const BvhNode& n = nodes_[i];
+    const BvhNode& n = binary[i];
     const double dx = double(n.hi[0]) - n.lo[0], dy = double(n.hi[1]) - n.lo[1], dz = double(n.hi[2]) - n.lo[2];
     return dx * dy + dy * dz + dz * dx;
   };
-  auto emptyNode = []() {
-    BvhWideNode w;
-    for (int c = 0; c < 4; ++c) {
-      for (int k = 0; k < 3; ++k) {
-        w.b[k][c] = std::numeric_limits<float>::infinity();
-        w.b[3 + k][c] = -std::numeric_limits<float>::infinity();
-      }
-      w.first[c] = 0;
-      w.count[c] = BvhWideNode::kEmpty;
-    }
-    return w;
-  };
   // Explicit work list (binary node, wide slot) instead of recursion
   std::vector<std::pair<uint32_t, uint32_t>> work;
-  wide_.push_back(emptyNode());
-  if (nodes_[0].count > 0) {  // a single leaf: one child
-    BvhWideNode& w = wide_[0];
-    for (int k = 0; k < 3; ++k) {
-      w.b[k][0] = nodes_[0].lo[k];
-      w.b[3 + k][0] = nodes_[0].hi[k];
-    }
-    w.first[0] = nodes_[0].first;
-    w.count[0] = nodes_[0].count;
-    return;
-  }
+  wide_.emplace_back();
   work.emplace_back(0u, 0u);
   while (!work.empty()) {
     const auto [bin, slot] = work.back();
     work.pop_back();
-    uint32_t children[4] = {nodes_[bin].first, nodes_[bin].first + 1, 0, 0};
-    int n = 2;
+    uint32_t children[4] = {bin, 0, 0, 0};
+    int n = 1;
+    if (binary[bin].count == 0) {
+      children[0] = binary[bin].first;
+      children[1] = binary[bin].first + 1;
+      n = 2;
+    }
     while (n < 4) {
       int best = -1;
       double bestArea = -1.0;
-      for (int c = 0; c < n; ++c)
-        if (nodes_[children[c]].count == 0 && area(children[c]) > bestArea) {
-          bestArea = area(children[c]);
+      for (int c = 0; c < n; ++c) {
+        const double a = binary[children[c]].count == 0 ? area(children[c]) : -1.0;
+        if (a > bestArea) {
+          bestArea = a;
           best = c;
         }
+      }
       if (best < 0) break;
       const uint32_t opened = children[best];
-      children[best] = nodes_[opened].first;
-      children[n++] = nodes_[opened].first + 1;
+      children[best] = binary[opened].first;
+      children[n++] = binary[opened].first + 1;
     }
-    BvhWideNode w = emptyNode();
-    for (int c = 0; c < n; ++c) {
-      const BvhNode& child = nodes_[children[c]];
+    // Unused slots are empty: inverted boxes, count kEmpty
+    BvhWideNode w;
+    for (int c = 0; c < 4; ++c) {
+      const bool used = c < n;
       for (int k = 0; k < 3; ++k) {
-        w.b[k][c] = child.lo[k];
-        w.b[3 + k][c] = child.hi[k];
+        w.b[k][c] = used ? binary[children[c]].lo[k] : std::numeric_limits<float>::infinity();
+        w.b[3 + k][c] = used ? binary[children[c]].hi[k] : -std::numeric_limits<float>::infinity();
       }
-      if (child.count > 0) {
-        w.first[c] = child.first;
-        w.count[c] = child.count;
-      } else {
-        w.first[c] = 0;  // set below, once the wide child is allocated
-        w.count[c] = 0;
-      }
-    }
-    // Allocate the wide children of inner slots, then queue them
-    for (int c = 0; c < n; ++c)
-      if (w.count[c] == 0) {
+      w.first[c] = used ? binary[children[c]].first : 0;
+      w.count[c] = used ? binary[children[c]].count : BvhWideNode::kEmpty;
+      if (used && w.count[c] == 0) {  // inner: allocate its wide node and queue it
         w.first[c] = uint32_t(wide_.size());
-        wide_.push_back(emptyNode());
+        wide_.emplace_back();
         work.emplace_back(children[c], w.first[c]);
       }
+    }
     wide_[slot] = w;
   }
   wide_.shrink_to_fit();
 }
-
 
 }  // namespace whitted

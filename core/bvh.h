@@ -183,8 +183,8 @@ class Bvh {
   }
 
  private:
-  void collapse();
-  std::vector<BvhNode> nodes_;  ///< Binary tree, only during build().
+  /// Fills wide_ from the binary SAH tree (root at 0).
+  void collapse(const std::vector<BvhNode>& binary);
   std::vector<BvhWideNode> wide_;
   Bounds3 bounds_;
   std::vector<uint32_t> primIndices_;

@@ -200,7 +200,7 @@ struct TextureEntry
 // The six faces of a cube-map environment texture
 struct CubeEntry
 {
-  int32_t Faces[6] = { -1, -1, -1, -1, -1, -1 };
+  int Faces[6] = { -1, -1, -1, -1, -1, -1 };
   vtkMTimeType Stamp = 0;
   unsigned long LastFrame = 0;
 };
@@ -463,15 +463,7 @@ struct vtkWhittedSceneConverter::Internals
     // place, so a lookup-table edit changes no id (and the mesh referring to it keeps its BVH)
     if (c.HasColorTexture && c.ColorTexture.width > 0)
     {
-      if (g.ColorTexture >= 0)
-      {
-        this->Scene.setTexture(
-          static_cast<uint32_t>(g.ColorTexture), std::move(c.ColorTexture));
-      }
-      else
-      {
-        g.ColorTexture = static_cast<int>(this->Scene.addTexture(std::move(c.ColorTexture)));
-      }
+      this->StoreTexture(g.ColorTexture, std::move(c.ColorTexture));
       // InterpolateScalarsBeforeMapping: the interpolated coordinate is looked up in the colour map
       // before lighting, as VTK's shader does (so highlights are not tinted by the map)
       if (c.Mesh.texcoords.size() == c.Mesh.positions.size())
@@ -534,21 +526,28 @@ struct vtkWhittedSceneConverter::Internals
       image, image->GetPointData()->GetScalars(), texture);
     t.repeat = texture->GetRepeat() != 0;
     t.interpolate = texture->GetInterpolate() != 0;
-    // An edited texture replaces its previous texels in place (same id: materials stay valid)
+    this->StoreTexture(e.Id, std::move(t));
+    e.Stamp = stamp;
+    return e.Id;
+  }
+
+  // Stores texels under id: an edited texture replaces its previous texels in place (same id:
+  // materials and meshes referring to it stay valid and nothing is rebuilt), a new one gets an id,
+  // an empty one frees the id (-1).
+  void StoreTexture(int& id, whitted::Texture t)
+  {
     if (t.width <= 0)
     {
-      this->FreeTexture(e.Id);
+      this->FreeTexture(id);
     }
-    else if (e.Id >= 0)
+    else if (id >= 0)
     {
-      this->Scene.setTexture(static_cast<uint32_t>(e.Id), std::move(t));
+      this->Scene.setTexture(static_cast<uint32_t>(id), std::move(t));
     }
     else
     {
-      e.Id = static_cast<int>(this->Scene.addTexture(std::move(t)));
+      id = static_cast<int>(this->Scene.addTexture(std::move(t)));
     }
-    e.Stamp = stamp;
-    return e.Id;
   }
 
   // Frees a scene texture (its id may be reused by the next addTexture) and sets id to -1.
@@ -590,21 +589,7 @@ struct vtkWhittedSceneConverter::Internals
           images[i], images[i]->GetPointData()->GetScalars(), texture);
         t.repeat = false;
         t.interpolate = texture->GetInterpolate() != 0;
-        // Replaced in place, like any edited texture
-        int id = e.Faces[i];
-        if (t.width <= 0)
-        {
-          this->FreeTexture(id);
-        }
-        else if (id >= 0)
-        {
-          this->Scene.setTexture(static_cast<uint32_t>(id), std::move(t));
-        }
-        else
-        {
-          id = static_cast<int>(this->Scene.addTexture(std::move(t)));
-        }
-        e.Faces[i] = id;
+        this->StoreTexture(e.Faces[i], std::move(t));
       }
       e.Stamp = stamp;
     }
@@ -703,15 +688,8 @@ struct vtkWhittedSceneConverter::Internals
       env.projection = Projection::Screen;
       env.faces[0] = this->GetTexture(ren->GetBackgroundTexture());
       vtkCamera* cam = ren->GetActiveCamera();
-      vtkMatrix4x4* m =
-        cam->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1);
-      for (int r = 0; r < 4; ++r)
-      {
-        for (int c = 0; c < 4; ++c)
-        {
-          env.worldToClip[c][r] = m->GetElement(r, c);
-        }
-      }
+      env.worldToClip =
+        ToMat4(cam->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1));
       double fp[3], pos[3];
       cam->GetFocalPoint(fp);
       cam->GetPosition(pos);
@@ -1298,10 +1276,9 @@ void vtkWhittedSceneConverter::Update(
   {
     if (it->second.LastFrame != in.Frame)
     {
-      for (int32_t& face : it->second.Faces)
+      for (int& face : it->second.Faces)
       {
-        int id = face;
-        in.FreeTexture(id);
+        in.FreeTexture(face);
       }
       it = in.CubeTextures.erase(it);
     }
