@@ -41,12 +41,15 @@ struct Builder {
   const BvhBuildOptions& opt;
   std::vector<BvhNode>& nodes;
   std::vector<uint32_t>& idx;
+  Vec3 anchor;  // node boxes are stored relative to it
   int maxDepth = 0;
 
   void setBounds(BvhNode& n, const Bounds3& b) {
+    // The subtraction rounds once; roundDown / roundUp step strictly outward, at least one double ulp (so the
+    // float box contains the exact difference)
     for (int i = 0; i < 3; ++i) {
-      n.lo[i] = roundDown(b.lo[i]);
-      n.hi[i] = roundUp(b.hi[i]);
+      n.lo[i] = roundDown(b.lo[i] - anchor[i]);
+      n.hi[i] = roundUp(b.hi[i] - anchor[i]);
     }
   }
 
@@ -138,7 +141,7 @@ struct Builder {
     // Large subtrees build in parallel (each in its own node array, spliced in afterwards)
     if (count >= kParallelMin && depth <= kParallelDepth) {
       std::vector<BvhNode> rightNodes(1);
-      Builder rightBuilder{boxes, centroids, opt, rightNodes, idx};
+      Builder rightBuilder{boxes, centroids, opt, rightNodes, idx, anchor};
       // Exceptions (std::bad_alloc) must not escape a thread or unwind past a joinable one: carry them back
       std::exception_ptr workerError;
       std::thread worker([&] {
@@ -192,11 +195,12 @@ void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& cent
   std::vector<BvhNode> binary;
   binary.reserve(2 * boxes.size());
   binary.push_back({});
-  Builder b{boxes, centroids, opt, binary, primIndices_};
+  for (const Bounds3& box : boxes) bounds_.extend(box);
+  // Anchor at the centre, so float node boxes keep their precision for objects far from the origin
+  anchor_ = isFinite(bounds_.center()) ? bounds_.center() : Vec3(0.0);
+  Builder b{boxes, centroids, opt, binary, primIndices_, anchor_};
   b.split(0, 0, uint32_t(boxes.size()), 1);
   depth_ = b.maxDepth;
-  bounds_.lo = Vec3(binary[0].lo[0], binary[0].lo[1], binary[0].lo[2]);
-  bounds_.hi = Vec3(binary[0].hi[0], binary[0].hi[1], binary[0].hi[2]);
   collapse(binary);
 }
 
