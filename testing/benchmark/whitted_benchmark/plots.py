@@ -27,12 +27,15 @@ def plain_log_ticks(ax, axis="both"):
 
 
 def pov(ctx, row):
-    """Our image, POV-Ray's and their difference (first size)."""
+    """Our image, POV-Ray's and their difference (first size); kept as it is when the images are not there (a
+    results folder kept without them)."""
+    images = [ctx.path("pov_%s_%s.png" % (who, row["size"])) for who in ("ours", "povray")]
+    if not all(os.path.exists(f) for f in images):
+        return
     plt = plt_module()
     import matplotlib.image as mpimg
     import numpy as np
-    a = mpimg.imread(ctx.path("pov_ours_%s.png" % row["size"]))[..., :3]
-    b = mpimg.imread(ctx.path("pov_povray_%s.png" % row["size"]))[..., :3]
+    a, b = (mpimg.imread(f)[..., :3] for f in images)
     fig, ax = plt.subplots(1, 3, figsize=(15, 4.4))
     ax[0].imshow(a)
     ax[0].set_title("Whitted: trace %.0f ms (process %.0f ms)" % (row["ours_trace_median"] * 1e3,
@@ -65,7 +68,7 @@ def vtk(ctx, frames, rows):
                        "Whitted core, shadows, %d spp: %.0f ms" % (spp, t * 1e3)))
     for r in rows:
         if r.get("status") == "ok" and r.get("screenshot"):
-            samples = "%d spp" % r["spp"] if r["mode"] == "whitted" else "MSAA %d" % r["msaa"]
+            samples = "%d spp" % r.get("spp", 1) if r["mode"] == "whitted" else "MSAA %d" % r["msaa"]
             panels.append((ctx.path(r["screenshot"]), "%s, %s: %.0f ms" % (labels[r["mode"]], samples,
                                                                           r["seconds_median"] * 1e3)))
     panels = [p for p in panels if os.path.exists(p[0])]

@@ -112,7 +112,8 @@ def report(ctx, head):
                     "%.0f / %.0f" % (r["pov_wall_median"] * 1e3, r["pov_cpu_median"] * 1e3),
                     "%s / %s" % (fmt_ratio(proc[0]), fmt_ratio(proc[1])),
                     "%.0f" % (r["ours_trace_warm_median"] * 1e3),
-                    "%.2g (SSIM %.4f, max %s/255)" % (r["image_rmse_8bit"], r["image_ssim"], r["image_max_levels"])])
+                    "%.2g (SSIM %.4f, max %s/255)" % (r["image_rmse_8bit"], r.get("image_ssim", float("nan")),
+                                                      r["image_max_levels"])])
         head.append(["classic %s vs POV-Ray 3.7, trace, %d thr each" % (r["size"], r["threads"]),
                      "%.0f ms (CPU %.0f)" % (r["ours_trace_median"] * 1e3, r["ours_trace_cpu_median"] * 1e3),
                      "%.0f ms (CPU %.0f)" % (r["pov_trace_median"] * 1e3, r["pov_trace_cpu_median"] * 1e3),

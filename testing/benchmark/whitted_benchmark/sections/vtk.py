@@ -129,11 +129,11 @@ def report(ctx, head):
                     "%s / %s" % (ms(o["seconds_median"]), ms(o["cpu_seconds_median"])), "",
                     o["each"] + " ms (before / after)"])
     for r in vtk:
-        samples = "%d spp" % r["spp"] if r["mode"] == "whitted" else "MSAA %d" % r["msaa"]
+        samples = "%d spp" % r.get("spp", 1) if r["mode"] == "whitted" else "MSAA %d" % r["msaa"]
         if r["status"] != "ok":
             tab.append([LABELS.get(r["mode"], r["mode"]), samples, "", "", "", r["status"]])
             continue
-        d = [x for x in diffs if (x["mode"], x["msaa"], x["spp"]) == (r["mode"], r["msaa"], r["spp"])]
+        d = [x for x in diffs if (x["mode"], x["msaa"], x["spp"]) == (r["mode"], r["msaa"], r.get("spp", 1))]
         tab.append([LABELS.get(r["mode"], r["mode"]), samples,
                     "%s / %s" % (ms(r["first_frame_seconds"]), ms(r.get("first_frame_cpu_seconds"))),
                     "%s / %s" % (ms(r["seconds_median"]), ms(r.get("cpu_seconds_median"))),
