@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <random>
+#include <stdexcept>
 
 using namespace whitted;
 
@@ -48,7 +50,7 @@ void checkInvariants(const Bvh& bvh, const std::vector<Bounds3>& boxes) {
         }
       } else {
         ASSERT_LT(n.first[c], nodes.size());
-        ASSERT_GT(n.first[c], 0u);
+        ASSERT_GT(n.first[c], std::size_t(&n - nodes.data()));  // children after parents (refit relies on it)
         ++parents[n.first[c]];
         const BvhWideNode& child = nodes[n.first[c]];
         for (int cc = 0; cc < 4; ++cc) {
@@ -67,33 +69,193 @@ void checkInvariants(const Bvh& bvh, const std::vector<Bounds3>& boxes) {
   EXPECT_LT(bvh.depth(), Bvh::kStackSize);
 }
 
+std::vector<Vec3> centers(const std::vector<Bounds3>& boxes) {
+  std::vector<Vec3> cents;
+  for (auto& b : boxes) cents.push_back(b.center());
+  return cents;
+}
+
+BvhBuildOptions withQuality(BvhBuildQuality q, int threads = 0) {
+  BvhBuildOptions opt;
+  opt.quality = q;
+  opt.threads = threads;
+  return opt;
+}
+
+/// Expected cost of a random ray through the tree (surface-area heuristic: node visit 1, primitive test 1).
+double sahCost(const Bvh& bvh) {
+  double cost = 1.0;
+  const double rootArea = bvh.bounds().halfArea();
+  for (const BvhWideNode& n : bvh.nodes())
+    for (int c = 0; c < 4; ++c) {
+      if (n.count[c] == BvhWideNode::kEmpty) continue;
+      Bounds3 b{Vec3(n.b[0][c], n.b[1][c], n.b[2][c]), Vec3(n.b[3][c], n.b[4][c], n.b[5][c])};
+      cost += b.halfArea() / rootArea * (n.count[c] > 0 ? n.count[c] : 1.0);
+    }
+  return cost;
+}
+
+bool sameTree(const Bvh& a, const Bvh& b) {
+  return a.nodes().size() == b.nodes().size() && a.primIndices() == b.primIndices() &&
+         std::memcmp(a.nodes().data(), b.nodes().data(), a.nodes().size() * sizeof(BvhWideNode)) == 0;
+}
+
+class BvhQuality : public testing::TestWithParam<BvhBuildQuality> {};
+
+/// Random triangles (in a cube of edge 10) and their boxes.
+struct Triangles {
+  std::vector<Vec3> p;
+  std::vector<Bounds3> boxes;
+  Triangles(int n, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> U(-1, 1);
+    for (int i = 0; i < n; ++i) {
+      Vec3 c(U(rng) * 5, U(rng) * 5, U(rng) * 5);
+      for (int k = 0; k < 3; ++k) p.push_back(k == 0 ? c : c + Vec3(U(rng), U(rng), U(rng)) * 0.5);
+    }
+    updateBoxes();
+  }
+  void updateBoxes() {
+    boxes.assign(p.size() / 3, Bounds3());
+    for (std::size_t i = 0; i < p.size(); ++i) boxes[i / 3].extend(p[i]);
+  }
+};
+
+/// Closest hits through the tree equal brute force over every triangle (same t, same triangle) for random rays.
+void expectClosestHitsMatch(const Bvh& bvh, const Triangles& tris, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(-1, 1);
+  int hits = 0;
+  for (int k = 0; k < 1000; ++k) {
+    Ray r;
+    r.origin = Vec3(U(rng), U(rng), U(rng)) * 8.0;
+    r.dir = glm::normalize(Vec3(U(rng), U(rng), U(rng)));
+    double best = kInfinity;
+    uint32_t bestPrim = 0;
+    for (uint32_t i = 0; i < tris.boxes.size(); ++i) {
+      auto h = intersectTriangle(r, tris.p[3 * i], tris.p[3 * i + 1], tris.p[3 * i + 2]);
+      if (h && h->t < best) {
+        best = h->t;
+        bestPrim = i;
+      }
+    }
+    double tMax = r.tMax;
+    uint32_t prim = 0;
+    bool found = bvh.traverse<false>(r, tMax, [&](uint32_t first, uint32_t count, double& t) {
+      bool any = false;
+      for (uint32_t i = first; i < first + count; ++i) {
+        const uint32_t p = bvh.primIndices()[i];
+        auto h = intersectTriangle(r, tris.p[3 * p], tris.p[3 * p + 1], tris.p[3 * p + 2]);
+        if (h && (h->t < t || (h->t == t && p < prim))) {  // ties: the lower index, as the brute force
+          t = h->t;
+          prim = p;
+          any = true;
+        }
+      }
+      return any;
+    });
+    ASSERT_EQ(found, std::isfinite(best)) << "ray " << k;
+    if (found) {
+      ++hits;
+      EXPECT_EQ(tMax, best);
+      EXPECT_EQ(prim, bestPrim);
+    }
+  }
+  EXPECT_GT(hits, 100);
+}
+
 }  // namespace
 
-TEST(Bvh, NodesContainChildrenAndEveryPrimitiveOnce) {
+TEST_P(BvhQuality, NodesContainChildrenAndEveryPrimitiveOnce) {
   auto boxes = randomBoxes(5000, 1);
-  std::vector<Vec3> cents;
-  for (auto& b : boxes) cents.push_back(b.center());
   Bvh bvh;
-  bvh.build(boxes, cents);
+  bvh.build(boxes, centers(boxes), withQuality(GetParam()));
   checkInvariants(bvh, boxes);
 }
 
-// Above 65536 primitives the top levels are built by parallel threads and spliced together.
-TEST(Bvh, ParallelBuildKeepsInvariants) {
+// Above 32768 primitives large nodes bin and partition in parallel chunks and subtrees are built as tasks.
+TEST_P(BvhQuality, ParallelBuildKeepsInvariants) {
   auto boxes = randomBoxes(300000, 2);
-  std::vector<Vec3> cents;
-  for (auto& b : boxes) cents.push_back(b.center());
   Bvh bvh;
-  bvh.build(boxes, cents);
+  bvh.build(boxes, centers(boxes), withQuality(GetParam()));
   checkInvariants(bvh, boxes);
 }
 
-TEST(Bvh, CoincidentCentroidsStillSplit) {
-  std::vector<Bounds3> boxes(1000, Bounds3{Vec3(0), Vec3(1)});
-  std::vector<Vec3> cents(1000, Vec3(0.5));
+// The tree is a function of the input only: the same nodes and primitive order on 1, 2 and 3 threads.
+TEST_P(BvhQuality, SameTreeForAnyThreadCount) {
+  auto boxes = randomBoxes(200000, 3);
+  const auto cents = centers(boxes);
+  Bvh one, two, three;
+  one.build(boxes, cents, withQuality(GetParam(), 1));
+  two.build(boxes, cents, withQuality(GetParam(), 2));
+  three.build(boxes, cents, withQuality(GetParam(), 3));
+  EXPECT_TRUE(sameTree(one, two));
+  EXPECT_TRUE(sameTree(one, three));
+}
+
+TEST_P(BvhQuality, CoincidentCentroidsStillSplit) {
+  for (int n : {1000, 70000}) {  // sequential and chunked passes
+    std::vector<Bounds3> boxes(n, Bounds3{Vec3(0), Vec3(1)});
+    std::vector<Vec3> cents(n, Vec3(0.5));
+    Bvh bvh;
+    bvh.build(boxes, cents, withQuality(GetParam()));
+    checkInvariants(bvh, boxes);
+  }
+}
+
+TEST_P(BvhQuality, ClosestHitsMatchBruteForce) {
+  Triangles tris(3000, 4);
   Bvh bvh;
-  bvh.build(boxes, cents);
-  checkInvariants(bvh, boxes);
+  bvh.build(tris.boxes, centers(tris.boxes), withQuality(GetParam()));
+  expectClosestHitsMatch(bvh, tris, 5);
+}
+
+// Points move, topology stays: after refit the boxes contain the moved primitives and hits are still exact.
+TEST_P(BvhQuality, RefitFollowsMovedPrimitives) {
+  Triangles tris(3000, 6);
+  Bvh bvh;
+  bvh.build(tris.boxes, centers(tris.boxes), withQuality(GetParam()));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (Vec3& p : tris.p) p += Vec3(U(rng), U(rng), U(rng)) * 0.8;  // larger than the triangles themselves
+  tris.updateBoxes();
+  const std::vector<uint32_t> order = bvh.primIndices();
+  bvh.refit(tris.boxes);
+  EXPECT_EQ(bvh.primIndices(), order);
+  checkInvariants(bvh, tris.boxes);
+  Bounds3 all;
+  for (const Bounds3& b : tris.boxes) all.extend(b);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_LE(bvh.bounds().lo[a], all.lo[a]);
+    EXPECT_GE(bvh.bounds().hi[a], all.hi[a]);
+  }
+  expectClosestHitsMatch(bvh, tris, 8);
+}
+
+// Refit on the build's own boxes reproduces the built boxes bit for bit (same outward rounding).
+TEST_P(BvhQuality, RefitOnSameBoxesChangesNothing) {
+  auto boxes = randomBoxes(50000, 9);
+  Bvh built, refitted;
+  built.build(boxes, centers(boxes), withQuality(GetParam()));
+  refitted = built;
+  refitted.refit(boxes);
+  EXPECT_TRUE(sameTree(built, refitted));
+  EXPECT_THROW(refitted.refit(std::vector<Bounds3>(boxes.begin(), boxes.end() - 1)), std::invalid_argument);
+}
+
+INSTANTIATE_TEST_SUITE_P(Bvh, BvhQuality, testing::Values(BvhBuildQuality::Sah, BvhBuildQuality::Fast),
+                         [](const testing::TestParamInfo<BvhBuildQuality>& i) {
+                           return i.param == BvhBuildQuality::Sah ? "Sah" : "Fast";
+                         });
+
+// The SAH build is the better tree: lower expected cost than the Morton build of the same boxes.
+TEST(Bvh, SahBuildBeatsFastBuildOnSahCost) {
+  auto boxes = randomBoxes(100000, 10);
+  const auto cents = centers(boxes);
+  Bvh sah, fast;
+  sah.build(boxes, cents, withQuality(BvhBuildQuality::Sah));
+  fast.build(boxes, cents, withQuality(BvhBuildQuality::Fast));
+  EXPECT_LT(sahCost(sah), 0.95 * sahCost(fast));
 }
 
 TEST(Bvh, ClosestHitMatchesBruteForce) {
