@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <optional>
 #include <random>
 #include <stdexcept>
 
@@ -104,48 +105,62 @@ class BvhQuality : public testing::TestWithParam<BvhBuildQuality> {};
 
 /// Random triangles (in a cube of edge 10) and their boxes.
 struct Triangles {
-  std::vector<Vec3> p;
+  TriangleMesh mesh;  // triangle i: vertices 3i, 3i+1, 3i+2
   std::vector<Bounds3> boxes;
   Triangles(int n, unsigned seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> U(-1, 1);
     for (int i = 0; i < n; ++i) {
       Vec3 c(U(rng) * 5, U(rng) * 5, U(rng) * 5);
-      for (int k = 0; k < 3; ++k) p.push_back(k == 0 ? c : c + Vec3(U(rng), U(rng), U(rng)) * 0.5);
+      for (int k = 0; k < 3; ++k) mesh.positions.push_back(k == 0 ? c : c + Vec3(U(rng), U(rng), U(rng)) * 0.5);
+      mesh.triangles.push_back({3 * i, 3 * i + 1, 3 * i + 2});
     }
     updateBoxes();
   }
   void updateBoxes() {
-    boxes.assign(p.size() / 3, Bounds3());
-    for (std::size_t i = 0; i < p.size(); ++i) boxes[i / 3].extend(p[i]);
+    boxes.assign(mesh.triangles.size(), Bounds3());
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) boxes[i / 3].extend(mesh.positions[i]);
+  }
+  std::optional<PrimHit> intersect(const Ray& r, uint32_t i) const {
+    return intersectTriangle(r, mesh.positions[3 * i], mesh.positions[3 * i + 1], mesh.positions[3 * i + 2]);
+  }
+  /// Closest hit distance over all triangles (infinity for none); prim: the lowest index at that distance.
+  double bruteForce(const Ray& r, uint32_t& prim) const {
+    double best = kInfinity;
+    for (uint32_t i = 0; i < boxes.size(); ++i) {
+      auto h = intersect(r, i);
+      if (h && h->t < best) {
+        best = h->t;
+        prim = i;
+      }
+    }
+    return best;
   }
 };
+
+Ray randomRay(std::mt19937& rng) {
+  std::uniform_real_distribution<double> U(-1, 1);
+  Ray r;
+  r.origin = Vec3(U(rng), U(rng), U(rng)) * 8.0;
+  r.dir = glm::normalize(Vec3(U(rng), U(rng), U(rng)));
+  return r;
+}
 
 /// Closest hits through the tree equal brute force over every triangle (same t, same triangle) for random rays.
 void expectClosestHitsMatch(const Bvh& bvh, const Triangles& tris, unsigned seed) {
   std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> U(-1, 1);
   int hits = 0;
   for (int k = 0; k < 1000; ++k) {
-    Ray r;
-    r.origin = Vec3(U(rng), U(rng), U(rng)) * 8.0;
-    r.dir = glm::normalize(Vec3(U(rng), U(rng), U(rng)));
-    double best = kInfinity;
+    const Ray r = randomRay(rng);
     uint32_t bestPrim = 0;
-    for (uint32_t i = 0; i < tris.boxes.size(); ++i) {
-      auto h = intersectTriangle(r, tris.p[3 * i], tris.p[3 * i + 1], tris.p[3 * i + 2]);
-      if (h && h->t < best) {
-        best = h->t;
-        bestPrim = i;
-      }
-    }
+    const double best = tris.bruteForce(r, bestPrim);
     double tMax = r.tMax;
     uint32_t prim = 0;
     bool found = bvh.traverse<false>(r, tMax, [&](uint32_t first, uint32_t count, double& t) {
       bool any = false;
       for (uint32_t i = first; i < first + count; ++i) {
         const uint32_t p = bvh.primIndices()[i];
-        auto h = intersectTriangle(r, tris.p[3 * p], tris.p[3 * p + 1], tris.p[3 * p + 2]);
+        auto h = tris.intersect(r, p);
         if (h && (h->t < t || (h->t == t && p < prim))) {  // ties: the lower index, as the brute force
           t = h->t;
           prim = p;
@@ -217,7 +232,7 @@ TEST_P(BvhQuality, RefitFollowsMovedPrimitives) {
   bvh.build(tris.boxes, centers(tris.boxes), withQuality(GetParam()));
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> U(-1, 1);
-  for (Vec3& p : tris.p) p += Vec3(U(rng), U(rng), U(rng)) * 0.8;  // larger than the triangles themselves
+  for (Vec3& p : tris.mesh.positions) p += Vec3(U(rng), U(rng), U(rng)) * 0.8;  // larger than the triangles themselves
   tris.updateBoxes();
   const std::vector<uint32_t> order = bvh.primIndices();
   bvh.refit(tris.boxes);
@@ -258,37 +273,18 @@ TEST(Bvh, SahBuildBeatsFastBuildOnSahCost) {
   EXPECT_LT(sahCost(sah), 0.95 * sahCost(fast));
 }
 
+// Through the scene (two levels, leaf-ordered triangle copies) as well as through the bare tree.
 TEST(Bvh, ClosestHitMatchesBruteForce) {
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> U(-1, 1);
-  TriangleMesh m;
-  for (int i = 0; i < 2000; ++i) {
-    Vec3 c(U(rng) * 5, U(rng) * 5, U(rng) * 5);
-    uint32_t b = uint32_t(m.positions.size());
-    m.positions.push_back(c);
-    m.positions.push_back(c + Vec3(U(rng), U(rng), U(rng)) * 0.5);
-    m.positions.push_back(c + Vec3(U(rng), U(rng), U(rng)) * 0.5);
-    m.triangles.push_back({b, b + 1, b + 2});
-  }
+  Triangles tris(2000, 3);
   Scene scene;
-  TriangleMesh copy = m;
-  scene.addInstance(scene.addMesh(std::move(copy)), Mat4(1.0), scene.addMaterial(Material{}));
+  scene.addInstance(scene.addMesh(TriangleMesh(tris.mesh)), Mat4(1.0), scene.addMaterial(Material{}));
   scene.commit();
+  std::mt19937 rng(4);
   int hits = 0;
   for (int k = 0; k < 2000; ++k) {
-    Ray r;
-    r.origin = Vec3(U(rng), U(rng), U(rng)) * 8.0;
-    r.dir = glm::normalize(Vec3(U(rng), U(rng), U(rng)));
-    double best = kInfinity;
+    const Ray r = randomRay(rng);
     uint32_t bestPrim = 0;
-    for (uint32_t i = 0; i < m.triangles.size(); ++i) {
-      auto& t = m.triangles[i];
-      auto h = intersectTriangle(r, m.positions[t.x], m.positions[t.y], m.positions[t.z]);
-      if (h && h->t < best) {
-        best = h->t;
-        bestPrim = i;
-      }
-    }
+    const double best = tris.bruteForce(r, bestPrim);
     Hit h;
     bool found = scene.intersect(r, h);
     ASSERT_EQ(found, std::isfinite(best));
