@@ -3,6 +3,7 @@
 #include "renderer.h"  // hardwareThreads()
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <new>
 #include <condition_variable>
@@ -26,26 +27,37 @@ namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // Node bounds are stored as floats stepped one ulp outward (always, not only when rounding went inward), so a
-// ray grazing a face with a tiny slope still enters the node. Both are monotonic, so the rounded union of boxes
-// equals the union of the rounded boxes: primitives are rounded once and all unions are taken in float.
-float nextDown(float f) {
-  if (std::isnan(f) || f == -kInf) return f;
-  if (f == 0.0f) return -std::numeric_limits<float>::denorm_min();
-  uint32_t u;
-  std::memcpy(&u, &f, 4);
-  u = f > 0.0f ? u - 1 : u + 1;
-  std::memcpy(&f, &u, 4);
-  return f;
+// ray grazing a face with a tiny slope still enters the node: roundDown(x) is the largest float below x, roundUp(x)
+// the smallest above. Both are monotonic, so the rounded union of boxes equals the union of the rounded boxes:
+// primitives are rounded once and all unions are taken in float.
+
+__m128 select(__m128 mask, __m128 a, __m128 b) { return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b)); }
+
+/// The next float toward -infinity, per lane (NaN and -infinity stay, zero goes to -denorm_min).
+__m128 nextDown4(__m128 f) {
+  const __m128 zero = _mm_setzero_ps();
+  const __m128i pos = _mm_castps_si128(_mm_cmpgt_ps(f, zero));
+  const __m128i neg = _mm_castps_si128(_mm_andnot_ps(_mm_cmpeq_ps(f, _mm_set1_ps(-kInf)), _mm_cmplt_ps(f, zero)));
+  const __m128i u = _mm_sub_epi32(_mm_add_epi32(_mm_castps_si128(f), pos), neg);  // positive: -1 ulp, negative: +1
+  return select(_mm_cmpeq_ps(f, zero), _mm_castsi128_ps(_mm_set1_epi32(int32_t(0x80000001u))), _mm_castsi128_ps(u));
 }
-float nextUp(float f) { return -nextDown(-f); }
-float roundDown(double x) {
-  const float f = static_cast<float>(x);
-  return double(f) >= x ? nextDown(f) : f;  // the largest float below x
+
+/// roundDown() of four doubles (lanes 0, 1 from x01, lanes 2, 3 from x23): the nearest float, one step down
+/// unless it is already below. NaN stays NaN.
+__m128 roundDown4(__m128d x01, __m128d x23) {
+  const __m128 f = _mm_movelh_ps(_mm_cvtpd_ps(x01), _mm_cvtpd_ps(x23));
+  const __m128d ge01 = _mm_cmpge_pd(_mm_cvtps_pd(f), x01), ge23 = _mm_cmpge_pd(_mm_cvtps_pd(_mm_movehl_ps(f, f)), x23);
+  return select(_mm_shuffle_ps(_mm_castpd_ps(ge01), _mm_castpd_ps(ge23), _MM_SHUFFLE(2, 0, 2, 0)), nextDown4(f), f);
 }
-float roundUp(double x) {
-  const float f = static_cast<float>(x);
-  return double(f) <= x ? nextUp(f) : f;  // the smallest float above x
+
+/// roundUp() of four doubles: -roundDown(-x).
+__m128 roundUp4(__m128d x01, __m128d x23) {
+  const __m128d sign = _mm_set1_pd(-0.0);
+  return _mm_xor_ps(roundDown4(_mm_xor_pd(x01, sign), _mm_xor_pd(x23, sign)), _mm_set1_ps(-0.0f));
 }
+
+/// Lanes 0..2 kept, lane 3 zeroed.
+__m128 xyz(__m128 v) { return _mm_and_ps(v, _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1))); }
 
 /// Box in single precision, x y z in lanes 0..2 (lane 3 unused).
 struct Box4 {
@@ -101,6 +113,7 @@ class ScratchArray {
   ScratchArray& operator=(const ScratchArray&) = delete;
   T* data() { return p_; }
   T& operator[](std::size_t i) { return p_[i]; }
+  const T& operator[](std::size_t i) const { return p_[i]; }
 
  private:
   std::size_t bytes_, align_;
@@ -362,8 +375,6 @@ __m128 halfAreas3(__m128 e0, __m128 e1, __m128 e2) {
   _MM_TRANSPOSE4_PS(e0, e1, e2, e3);  // e0 = x extents, e1 = y, e2 = z
   return _mm_add_ps(_mm_add_ps(_mm_mul_ps(e0, e1), _mm_mul_ps(e1, e2)), _mm_mul_ps(e2, e0));
 }
-
-__m128 select(__m128 mask, __m128 a, __m128 b) { return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b)); }
 
 /// Partitions r[0, n) so that primitives with bin <= bin on axis come first; returns their count and the boxes
 /// (geometry and centroid) of both sides.
@@ -690,29 +701,64 @@ int buildAll(S& s, const typename S::Cand& root, WorkerPool& pool, std::vector<B
   return depth;
 }
 
-/// Recomputes all child boxes bottom-up (children have higher indices than parents); leafBox(first, count) gives
-/// a leaf's box. Returns the root box.
+/// Recomputes every child box bottom-up; leafBox(first, count) gives a leaf's box.
 template <class LeafBox>
-Box4 refitNodes(std::vector<BvhWideNode>& wide, LeafBox&& leafBox) {
-  ScratchArray<Box4> nodeBox(wide.size());
-  for (std::size_t i = wide.size(); i-- > 0;) {
+struct Refitter {
+  std::vector<BvhWideNode>& wide;
+  const LeafBox& leafBox;
+
+  /// Depth first below node i; returns its box.
+  Box4 subtree(uint32_t i) const {
     BvhWideNode& w = wide[i];
     Box4 all;
     for (int c = 0; c < 4; ++c) {
       if (w.count[c] == BvhWideNode::kEmpty) continue;
-      const Box4 b = w.count[c] > 0 ? leafBox(w.first[c], w.count[c]) : nodeBox[w.first[c]];
+      const Box4 b = w.count[c] > 0 ? leafBox(w.first[c], w.count[c]) : subtree(w.first[c]);
       setChildBox(w, c, b);
       all.extend(b);
     }
-    new (&nodeBox[i]) Box4(all);
+    return all;
   }
-  return wide.empty() ? Box4() : nodeBox[0];
-}
 
+  /// The subtrees below a frontier of inner nodes in parallel, then the nodes above it. Returns the root box.
+  Box4 all(WorkerPool& pool) const {
+    if (wide.empty()) return Box4();
+    std::vector<uint32_t> upper, frontier{0};  // breadth first: parents before children
+    const std::size_t want = wide.size() < 4096 ? 1 : 16 * std::size_t(pool.threads());
+    while (frontier.size() < want) {
+      std::vector<uint32_t> next;
+      for (uint32_t i : frontier)
+        for (int c = 0; c < 4; ++c)
+          if (wide[i].count[c] == 0) next.push_back(wide[i].first[c]);
+      if (next.empty()) break;
+      upper.insert(upper.end(), frontier.begin(), frontier.end());
+      frontier.swap(next);
+    }
+    ScratchArray<Box4> nodeBox(wide.size());  // written for the frontier and the upper nodes only
+    pool.run(uint32_t(frontier.size()), [&](uint32_t j) { new (&nodeBox[frontier[j]]) Box4(subtree(frontier[j])); });
+    for (std::size_t k = upper.size(); k-- > 0;) {
+      BvhWideNode& w = wide[upper[k]];
+      Box4 box;
+      for (int c = 0; c < 4; ++c) {
+        if (w.count[c] == BvhWideNode::kEmpty) continue;
+        const Box4 b = w.count[c] > 0 ? leafBox(w.first[c], w.count[c]) : nodeBox[w.first[c]];
+        setChildBox(w, c, b);
+        box.extend(b);
+      }
+      new (&nodeBox[upper[k]]) Box4(box);
+    }
+    return nodeBox[0];
+  }
+};
+
+/// A double box rounded outward to float (lane 3: 0).
 Box4 roundedBox(const Bounds3& b) {
+  static_assert(sizeof(Bounds3) == 6 * sizeof(double), "lo.x lo.y lo.z hi.x hi.y hi.z");
+  const double* d = &b.lo.x;
+  const __m128d d0 = _mm_loadu_pd(d), d1 = _mm_loadu_pd(d + 2), d2 = _mm_loadu_pd(d + 4);
   Box4 r;
-  r.lo = _mm_set_ps(0.0f, roundDown(b.lo.z), roundDown(b.lo.y), roundDown(b.lo.x));
-  r.hi = _mm_set_ps(0.0f, roundUp(b.hi.z), roundUp(b.hi.y), roundUp(b.hi.x));
+  r.lo = xyz(roundDown4(d0, d1));                                           // lo.x lo.y | lo.z (hi.x)
+  r.hi = xyz(roundUp4(_mm_shuffle_pd(d1, d2, 1), _mm_unpackhi_pd(d2, d2)));  // hi.x hi.y | hi.z
   return r;
 }
 
@@ -720,14 +766,26 @@ Bounds3 toBounds(const Box4& b) {
   return Bounds3{Vec3(lane(b.lo, 0), lane(b.lo, 1), lane(b.lo, 2)), Vec3(lane(b.hi, 0), lane(b.hi, 1), lane(b.hi, 2))};
 }
 
-/// Leaf boxes from the caller's primitive boxes: the rounded union (rounding is monotonic: round once per leaf).
-struct LeafBoxFromInput {
-  const std::vector<Bounds3>& boxes;
-  const std::vector<uint32_t>& prims;
+/// The caller's primitive boxes rounded outward, in leaf order. Performance note: the gather is one flat pass
+/// with independent loads (and prefetches) over all threads; reading the boxes leaf by leaf during the refit's
+/// depth-first walk waited on one cache miss after another (most of a Morton build's time).
+struct LeafOrderBoxes {
+  ScratchArray<Box4> box;
+  LeafOrderBoxes(const std::vector<Bounds3>& boxes, const std::vector<uint32_t>& prims, WorkerPool& pool)
+      : box(prims.size()) {
+    const uint32_t n = uint32_t(prims.size());
+    pool.run(chunksOf(n), [&](uint32_t k) {
+      for (uint32_t i = k * kChunk, e = std::min(n, i + kChunk); i < e; ++i) {
+        if (i + 16 < n) _mm_prefetch(reinterpret_cast<const char*>(&boxes[prims[i + 16]]), _MM_HINT_T0);
+        new (&box[i]) Box4(roundedBox(boxes[prims[i]]));
+      }
+    });
+  }
+  /// A leaf's box: the union of its rounded primitive boxes (= the rounded union: rounding is monotonic).
   Box4 operator()(uint32_t first, uint32_t count) const {
-    Bounds3 u;
-    for (uint32_t i = first; i < first + count; ++i) u.extend(boxes[prims[i]]);
-    return roundedBox(u);
+    Box4 u;
+    for (uint32_t i = first; i < first + count; ++i) u.extend(box[i]);
+    return u;
   }
 };
 
@@ -775,12 +833,27 @@ void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& cent
         keys[i] = (uint64_t(code) << 32) | i;
       }
     });
-    for (int pass = 0; pass < 3; ++pass) {  // LSD radix sort on the 30 code bits, 10 per pass (stable)
+    // LSD radix sort on the 30 code bits, 10 per pass; stable, so its result does not depend on the split into
+    // parts (one per thread: part histograms, then each part scatters its keys in order)
+    const uint32_t parts = uint32_t(pool.threads()), partSize = (n + parts - 1) / parts;
+    std::vector<std::array<uint32_t, 1024>> hist(parts);
+    for (int pass = 0; pass < 3; ++pass) {
       const int shift = 32 + 10 * pass;
-      uint32_t hist[1025] = {};
-      for (uint32_t i = 0; i < n; ++i) ++hist[((keys[i] >> shift) & 1023u) + 1];
-      for (int b = 0; b < 1024; ++b) hist[b + 1] += hist[b];
-      for (uint32_t i = 0; i < n; ++i) tmp[hist[(keys[i] >> shift) & 1023u]++] = keys[i];
+      pool.run(parts, [&](uint32_t p) {
+        hist[p].fill(0);
+        for (uint32_t i = p * partSize, e = std::min(n, i + partSize); i < e; ++i) ++hist[p][(keys[i] >> shift) & 1023u];
+      });
+      uint32_t sum = 0;
+      for (int b = 0; b < 1024; ++b)
+        for (uint32_t p = 0; p < parts; ++p) {
+          const uint32_t c = hist[p][b];
+          hist[p][b] = sum;
+          sum += c;
+        }
+      pool.run(parts, [&](uint32_t p) {
+        for (uint32_t i = p * partSize, e = std::min(n, i + partSize); i < e; ++i)
+          tmp[hist[p][(keys[i] >> shift) & 1023u]++] = keys[i];
+      });
       std::swap(keys, tmp);
     }
     ScratchArray<uint32_t> codes(n);
@@ -794,7 +867,8 @@ void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& cent
     MortonStrategy::Cand root{0, n, 1};
     s.decide(root);
     depth_ = buildAll(s, root, pool, wide_);
-    bounds_ = toBounds(refitNodes(wide_, LeafBoxFromInput{boxes, primIndices_}));
+    const LeafOrderBoxes leafBox(boxes, primIndices_, pool);
+    bounds_ = toBounds(Refitter<LeafOrderBoxes>{wide_, leafBox}.all(pool));
     return;
   }
 
@@ -805,13 +879,11 @@ void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& cent
     Box4 box, cbox;
     for (uint32_t i = k * kChunk, e = std::min(n, i + kChunk); i < e; ++i) {
       PrimRef& r = refs[i];
-      const Bounds3& b = boxes[i];
-      for (int a = 0; a < 3; ++a) {
-        r.lo[a] = roundDown(b.lo[a]);
-        r.hi[a] = roundUp(b.hi[a]);
-        r.c[a] = float(centroids[i][a]);
-      }
-      r.lo[3] = r.hi[3] = 0.0f;
+      const Box4 b = roundedBox(boxes[i]);
+      _mm_store_ps(r.lo, b.lo);
+      _mm_store_ps(r.hi, b.hi);
+      const double* c = &centroids[i].x;
+      _mm_store_ps(r.c, _mm_movelh_ps(_mm_cvtpd_ps(_mm_loadu_pd(c)), _mm_cvtpd_ps(_mm_load_sd(c + 2))));
       r.id = i;
     }
     boundsOf(refs.data() + k * kChunk, std::min(n, (k + 1) * kChunk) - k * kChunk, box, cbox);
@@ -839,7 +911,9 @@ void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& cent
 void Bvh::refit(const std::vector<Bounds3>& boxes) {
   if (boxes.size() != primIndices_.size()) throw std::invalid_argument("Bvh::refit: primitive count differs");
   if (wide_.empty()) return;
-  bounds_ = toBounds(refitNodes(wide_, LeafBoxFromInput{boxes, primIndices_}));
+  WorkerPool pool(buildThreads(BvhBuildOptions(), boxes.size()));
+  const LeafOrderBoxes leafBox(boxes, primIndices_, pool);
+  bounds_ = toBounds(Refitter<LeafOrderBoxes>{wide_, leafBox}.all(pool));
 }
 
 }  // namespace whitted
