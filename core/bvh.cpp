@@ -84,7 +84,8 @@ double halfArea(const Box4& b) {
   return dx * dy + dy * dz + dz * dx;
 }
 
-/// A primitive during the SAH build: its box rounded outward, its centroid (both float) and its index.
+/// A primitive during the SAH build: its box rounded outward, its centroid relative to an anchor (both float) and
+/// its index.
 struct alignas(16) PrimRef {
   float lo[4];
   float hi[4];
@@ -872,7 +873,11 @@ void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& cent
     return;
   }
 
-  // SAH: primitive references (boxes rounded outward once), root bounds
+  // SAH: primitive references (boxes rounded outward once; centroids relative to the first one, so that a small
+  // object far from the origin keeps distinct float centroids), root bounds
+  uint32_t a = 0;
+  while (a + 1 < n && !isFinite(centroids[a])) ++a;
+  const __m128d anchorXY = _mm_loadu_pd(&centroids[a].x), anchorZ = _mm_load_sd(&centroids[a].z);
   ScratchArray<PrimRef> refs(n);
   std::vector<Box4> part(2 * std::size_t(chunks));
   pool.run(chunks, [&](uint32_t k) {
@@ -883,7 +888,8 @@ void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& cent
       _mm_store_ps(r.lo, b.lo);
       _mm_store_ps(r.hi, b.hi);
       const double* c = &centroids[i].x;
-      _mm_store_ps(r.c, _mm_movelh_ps(_mm_cvtpd_ps(_mm_loadu_pd(c)), _mm_cvtpd_ps(_mm_load_sd(c + 2))));
+      _mm_store_ps(r.c, _mm_movelh_ps(_mm_cvtpd_ps(_mm_sub_pd(_mm_loadu_pd(c), anchorXY)),
+                                      _mm_cvtpd_ps(_mm_sub_sd(_mm_load_sd(c + 2), anchorZ))));
       r.id = i;
     }
     boundsOf(refs.data() + k * kChunk, std::min(n, (k + 1) * kChunk) - k * kChunk, box, cbox);
