@@ -377,13 +377,11 @@ __m128 halfAreas3(__m128 e0, __m128 e1, __m128 e2) {
   return _mm_add_ps(_mm_add_ps(_mm_mul_ps(e0, e1), _mm_mul_ps(e1, e2)), _mm_mul_ps(e2, e0));
 }
 
-/// Partitions r[0, n) so that primitives with bin <= bin on axis come first; returns their count and the boxes
-/// (geometry and centroid) of both sides.
-uint32_t partitionRefs(PrimRef* r, uint32_t n, const BinMap& map, int axis, int bin, Box4 side[2], Box4 cside[2]) {
-  const __m128 cmask = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
+/// Partitions r[0, n) so that primitives with bin <= bin on axis come first; returns their count and the centroid
+/// boxes of both sides (their geometry boxes are the unions of their bins).
+uint32_t partitionRefs(PrimRef* r, uint32_t n, const BinMap& map, int axis, int bin, Box4 cside[2]) {
   auto take = [&](const PrimRef& p, int s) {
-    side[s].extend(_mm_load_ps(p.lo), _mm_load_ps(p.hi));
-    const __m128 c = _mm_and_ps(_mm_load_ps(p.c), cmask);
+    const __m128 c = xyz(_mm_load_ps(p.c));
     cside[s].extend(c, c);
   };
   uint32_t i = 0, j = n;
@@ -415,6 +413,7 @@ struct SahStrategy {
     bool median = false;  // split at the median centroid on axis instead of at bin
     int axis = 0, bin = 0;
     Box4 box, cbox;
+    Box4 side[2];  // SAH split: the boxes of both sides (unions of their bins)
     BinMap map;
     uint32_t count() const { return end - begin; }
   };
@@ -445,6 +444,7 @@ struct SahStrategy {
     int bestAxis = -1, bestBin = 0;
     float bestCost = kInf;
     double parentArea = 0.0;
+    Bins bins;
     if (c.depth < Bvh::kSahDepthLimit && maxExt > 0.0f && std::isfinite(maxExt)) {
       // Binning over all three axes in one pass
       int axisOk[3];
@@ -455,7 +455,6 @@ struct SahStrategy {
         c.map.scale[a] = axisOk[a] ? sc : 0.0f;
         c.map.top[a] = float(nb - 1);
       }
-      Bins bins;
       bins.clear(nb);
       if (count >= kParallelMin) {
         const uint32_t chunks = chunksOf(count);
@@ -523,6 +522,8 @@ struct SahStrategy {
       c.median = false;
       c.axis = bestAxis;
       c.bin = bestBin;
+      c.side[0] = c.side[1] = Box4();
+      for (int b = 0; b < nb; ++b) c.side[b > bestBin].extend(bins.lo[bestAxis][b], bins.hi[bestAxis][b]);
     } else if (count > uint32_t(opt.maxLeafSize)) {
       // No SAH split (coincident centroids or depth limit): median split on the widest centroid axis
       c.leaf = false;
@@ -542,15 +543,15 @@ struct SahStrategy {
     l.depth = r.depth = c.depth + 1;
     uint32_t mid = c.begin;
     if (!c.median) {
-      Box4 side[2], cside[2];
+      Box4 cside[2];
       if (count >= kParallelMin) {
-        mid = c.begin + parallelPartition(c, side, cside);
+        mid = c.begin + parallelPartition(c, cside);
       } else {
-        mid = c.begin + partitionRefs(refs + c.begin, count, c.map, c.axis, c.bin, side, cside);
+        mid = c.begin + partitionRefs(refs + c.begin, count, c.map, c.axis, c.bin, cside);
       }
-      l.box = side[0];
+      l.box = c.side[0];
       l.cbox = cside[0];
-      r.box = side[1];
+      r.box = c.side[1];
       r.cbox = cside[1];
     }
     if (c.median || mid == c.begin || mid == c.end) {  // (an SAH split never leaves a side empty)
@@ -569,21 +570,18 @@ struct SahStrategy {
 
   /// Partition of a large node: chunks partition in place in parallel, then the right-side primitives left of the
   /// final middle swap places with the left-side ones right of it. Returns the left count.
-  uint32_t parallelPartition(const Cand& c, Box4 side[2], Box4 cside[2]) const {
+  uint32_t parallelPartition(const Cand& c, Box4 cside[2]) const {
     const uint32_t chunks = chunksOf(c.count());
     std::vector<uint32_t> left(chunks);
-    std::vector<Box4> part(4 * std::size_t(chunks));
+    std::vector<Box4> part(2 * std::size_t(chunks));
     pool->run(chunks, [&](uint32_t k) {
       const uint32_t b = c.begin + k * kChunk, e = std::min(c.end, b + kChunk);
-      left[k] = partitionRefs(refs + b, e - b, c.map, c.axis, c.bin, &part[4 * k], &part[4 * k + 2]);
+      left[k] = partitionRefs(refs + b, e - b, c.map, c.axis, c.bin, &part[2 * k]);
     });
     uint32_t nLeft = 0;
     for (uint32_t k = 0; k < chunks; ++k) {
       nLeft += left[k];
-      for (int s = 0; s < 2; ++s) {
-        side[s].extend(part[4 * k + s]);
-        cside[s].extend(part[4 * k + 2 + s]);
-      }
+      for (int s = 0; s < 2; ++s) cside[s].extend(part[2 * k + s]);
     }
     // Misplaced runs: right-side primitives below mid, left-side ones at or above it (equal totals)
     const uint32_t mid = c.begin + nLeft;
