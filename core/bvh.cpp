@@ -347,17 +347,33 @@ struct alignas(16) Bins {
       _mm_store_si128(reinterpret_cast<__m128i*>(count[b]), _mm_setzero_si128());
     }
   }
-  void add(const PrimRef* r, uint32_t n, const BinMap& map) {
-    for (uint32_t i = 0; i < n; ++i) {
-      alignas(16) int32_t b[4];
-      _mm_store_si128(reinterpret_cast<__m128i*>(b), map.index(r[i]));
-      const __m128 l = _mm_load_ps(r[i].lo), h = _mm_load_ps(r[i].hi);
-      for (int a = 0; a < 3; ++a) {
-        lo[a][b[a]] = _mm_min_ps(lo[a][b[a]], l);
-        hi[a][b[a]] = _mm_max_ps(hi[a][b[a]], h);
-        ++count[b[a]][a];
-      }
+  void add(const PrimRef& r, const BinMap& map) {
+    alignas(16) int32_t b[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(b), map.index(r));
+    const __m128 l = _mm_load_ps(r.lo), h = _mm_load_ps(r.hi);
+    for (int a = 0; a < 3; ++a) {
+      lo[a][b[a]] = _mm_min_ps(lo[a][b[a]], l);
+      hi[a][b[a]] = _mm_max_ps(hi[a][b[a]], h);
+      ++count[b[a]][a];
     }
+  }
+  /// Bins r[0, n) (this must be cleared for nb bins). Performance note: neighbouring primitives mostly fall into
+  /// the same bins, and each bin update waits for the previous one's store; large runs alternate between two bin
+  /// sets (two independent chains) merged at the end.
+  void add(const PrimRef* r, uint32_t n, const BinMap& map, int nb) {
+    if (n < 256) {
+      for (uint32_t i = 0; i < n; ++i) add(r[i], map);
+      return;
+    }
+    Bins odd;
+    odd.clear(nb);
+    uint32_t i = 0;
+    for (; i + 1 < n; i += 2) {
+      add(r[i], map);
+      odd.add(r[i + 1], map);
+    }
+    if (i < n) add(r[i], map);
+    merge(odd, nb);
   }
   void merge(const Bins& o, int nb) {
     for (int b = 0; b < nb; ++b) {
@@ -462,11 +478,11 @@ struct SahStrategy {
         pool->run(chunks, [&](uint32_t k) {
           const uint32_t b = c.begin + k * kChunk, e = std::min(c.end, b + kChunk);
           part[k].clear(nb);
-          part[k].add(refs + b, e - b, c.map);
+          part[k].add(refs + b, e - b, c.map, nb);
         });
         for (uint32_t k = 0; k < chunks; ++k) bins.merge(part[k], nb);
       } else {
-        bins.add(refs + c.begin, count, c.map);
+        bins.add(refs + c.begin, count, c.map, nb);
       }
       // Sweep from the right, then from the left, all axes at once (lane = axis)
       const __m128 inv = _mm_set1_ps(1.0f / maxExt);
