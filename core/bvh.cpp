@@ -13,6 +13,7 @@
 #include <limits>
 #include <mutex>
 #include <stdexcept>
+#include <system_error>
 #include <thread>
 #include <type_traits>
 
@@ -134,6 +135,8 @@ class WorkerPool {
   explicit WorkerPool(int threads) {
     try {
       for (int i = 1; i < threads; ++i) workers_.emplace_back([this] { loop(); });
+    } catch (const std::system_error&) {
+      // No more threads to be had (resource limits): build with the ones started
     } catch (...) {
       stop();
       throw;
@@ -817,6 +820,19 @@ void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& cent
   primIndices_.clear();
   depth_ = 0;
   if (boxes.empty()) return;
+  // An exception (std::bad_alloc) leaves an empty tree, not a half-built one
+  struct EmptyOnThrow {
+    Bvh& bvh;
+    const int uncaught = std::uncaught_exceptions();
+    ~EmptyOnThrow() {
+      if (std::uncaught_exceptions() > uncaught) {
+        bvh.wide_.clear();
+        bvh.primIndices_.clear();
+        bvh.bounds_ = Bounds3();
+        bvh.depth_ = 0;
+      }
+    }
+  } emptyOnThrow{*this};
   const uint32_t n = uint32_t(boxes.size());
   WorkerPool pool(buildThreads(opt, n));
   const uint32_t chunks = chunksOf(n);
