@@ -264,6 +264,25 @@ TEST(Bvh, ParallelBuildKeepsInvariantsAndIsDeterministic) {
   }
 }
 
+// Single-primitive leaves need more wide nodes per primitive than a subtree reserves up front (its nodes then move
+// to storage of their own): the tree stays whole and the same on 1 and 2 threads.
+TEST(Bvh, ParallelBuildOfSinglePrimitiveLeaves) {
+  auto boxes = randomBoxes(100000, 11);
+  const auto cents = centers(boxes);
+  for (BvhBuildQuality q : {BvhBuildQuality::Sah, BvhBuildQuality::Fast}) {
+    BvhBuildOptions opt = withQuality(q, 1);
+    opt.maxLeafSize = 1;
+    opt.traversalCost = 0.01;
+    Bvh one, two;
+    one.build(boxes, cents, opt);
+    opt.threads = 2;
+    two.build(boxes, cents, opt);
+    EXPECT_GT(two.nodes().size(), boxes.size() / 3);
+    checkInvariants(two, boxes);
+    EXPECT_TRUE(sameTree(one, two));
+  }
+}
+
 // The SAH build is the better tree: lower expected cost than the Morton build of the same boxes.
 TEST(Bvh, SahBuildBeatsFastBuildOnSahCost) {
   auto boxes = randomBoxes(100000, 10);
