@@ -5,13 +5,13 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <new>
 #include <condition_variable>
 #include <cstring>
 #include <exception>
 #include <functional>
 #include <limits>
 #include <mutex>
+#include <new>
 #include <stdexcept>
 #include <system_error>
 #include <thread>
@@ -32,7 +32,9 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 // the smallest above. Both are monotonic, so the rounded union of boxes equals the union of the rounded boxes:
 // primitives are rounded once and all unions are taken in float.
 
-__m128 select(__m128 mask, __m128 a, __m128 b) { return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b)); }
+__m128 select(__m128 mask, __m128 a, __m128 b) {
+  return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
+}
 
 /// The next float toward -infinity, per lane (NaN and -infinity stay, zero goes to -denorm_min).
 __m128 nextDown4(__m128 f) {
@@ -58,7 +60,9 @@ __m128 roundUp4(__m128d x01, __m128d x23) {
 }
 
 /// Lanes 0..2 kept, lane 3 zeroed.
-__m128 xyz(__m128 v) { return _mm_and_ps(v, _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1))); }
+__m128 xyz(__m128 v) {
+  return _mm_and_ps(v, _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1)));
+}
 
 /// Box in single precision, x y z in lanes 0..2 (lane 3 unused).
 struct Box4 {
@@ -110,7 +114,9 @@ struct HugePages {
 #endif
     return p;
   }
-  static void deallocate(void* p, std::size_t bytes) { ::operator delete(p, std::align_val_t(alignment(bytes))); }
+  static void deallocate(void* p, std::size_t bytes) {
+    ::operator delete(p, std::align_val_t(alignment(bytes)));
+  }
 };
 
 /// Uninitialised build-time array of trivially copyable T.
@@ -227,7 +233,9 @@ class WorkerPool {
   std::exception_ptr error_;
 };
 
-uint32_t chunksOf(uint32_t count) { return (count + kChunk - 1) / kChunk; }
+uint32_t chunksOf(uint32_t count) {
+  return (count + kChunk - 1) / kChunk;
+}
 
 // Wide nodes ---------------------------------------------------------------------------------------------------
 
@@ -539,7 +547,8 @@ struct SahStrategy {
         rightCost[b] = _mm_mul_ps(area, _mm_cvtepi32_ps(n));
       }
       const __m128i total = _mm_set1_epi32(int32_t(count));
-      const __m128 okMask = _mm_castsi128_ps(_mm_set_epi32(0, axisOk[2] ? -1 : 0, axisOk[1] ? -1 : 0, axisOk[0] ? -1 : 0));
+      const __m128 okMask =
+          _mm_castsi128_ps(_mm_set_epi32(0, axisOk[2] ? -1 : 0, axisOk[1] ? -1 : 0, axisOk[0] ? -1 : 0));
       __m128 best = _mm_set1_ps(kInf);
       __m128i bestB = _mm_setzero_si128();
       for (int a = 0; a < 3; ++a) acc[a] = Box4();
@@ -552,8 +561,9 @@ struct SahStrategy {
                                        _mm_mul_ps(_mm_sub_ps(acc[2].hi, acc[2].lo), inv));
         const __m128 cost = _mm_add_ps(_mm_mul_ps(area, _mm_cvtepi32_ps(n)), rightCost[b + 1]);
         // Only splits with primitives on both sides
-        const __m128 valid = _mm_and_ps(okMask, _mm_castsi128_ps(_mm_andnot_si128(
-                                                    _mm_cmpeq_epi32(n, _mm_setzero_si128()), _mm_cmplt_epi32(n, total))));
+        const __m128 valid = _mm_and_ps(
+            okMask,
+            _mm_castsi128_ps(_mm_andnot_si128(_mm_cmpeq_epi32(n, _mm_setzero_si128()), _mm_cmplt_epi32(n, total))));
         const __m128 better = _mm_and_ps(valid, _mm_cmplt_ps(cost, best));
         best = select(better, cost, best);
         bestB = _mm_or_si128(_mm_and_si128(_mm_castps_si128(better), _mm_set1_epi32(b)),
@@ -707,9 +717,8 @@ struct MortonStrategy {
     }
     int bit = 31;
     while (!(((a ^ b) >> bit) & 1u)) --bit;
-    c.mid = uint32_t(std::partition_point(codes + c.begin, codes + c.end,
-                                          [bit](uint32_t x) { return !((x >> bit) & 1u); }) -
-                     codes);
+    c.mid = uint32_t(
+        std::partition_point(codes + c.begin, codes + c.end, [bit](uint32_t x) { return !((x >> bit) & 1u); }) - codes);
   }
   void split(const Cand& c, Cand& l, Cand& r) const {
     l = Cand{c.begin, c.mid, c.depth + 1};
@@ -823,7 +832,7 @@ Box4 roundedBox(const Bounds3& b) {
   const double* d = &b.lo.x;
   const __m128d d0 = _mm_loadu_pd(d), d1 = _mm_loadu_pd(d + 2), d2 = _mm_loadu_pd(d + 4);
   Box4 r;
-  r.lo = xyz(roundDown4(d0, d1));                                           // lo.x lo.y | lo.z (hi.x)
+  r.lo = xyz(roundDown4(d0, d1));                                            // lo.x lo.y | lo.z (hi.x)
   r.hi = xyz(roundUp4(_mm_shuffle_pd(d1, d2, 1), _mm_unpackhi_pd(d2, d2)));  // hi.x hi.y | hi.z
   return r;
 }
@@ -920,7 +929,8 @@ void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& cent
       const int shift = 32 + 10 * pass;
       pool.run(parts, [&](uint32_t p) {
         hist[p].fill(0);
-        for (uint32_t i = p * partSize, e = std::min(n, i + partSize); i < e; ++i) ++hist[p][(keys[i] >> shift) & 1023u];
+        for (uint32_t i = p * partSize, e = std::min(n, i + partSize); i < e; ++i)
+          ++hist[p][(keys[i] >> shift) & 1023u];
       });
       uint32_t sum = 0;
       for (int b = 0; b < 1024; ++b)

@@ -39,10 +39,11 @@ enum class BvhBuildQuality { Sah, Fast };
 
 struct BvhBuildOptions {
   BvhBuildQuality quality = BvhBuildQuality::Sah;  ///< Default Sah.
-  int maxLeafSize = 8;         ///< Leaves never hold more primitives than this (unless all centroids coincide).
+  /// Leaves never hold more primitives than this (unless all centroids coincide); the Fast build uses at most 4.
+  int maxLeafSize = 8;
   int bins = 16;  ///< SAH bins per axis (2..32); nodes under 240 primitives use 4 + count / 20. Default 16.
   double traversalCost = 1.0;  ///< SAH cost of visiting a node, relative to one primitive test.
-  /// Build threads; 0 = hardwareThreads(). The tree does not depend on it. Inputs below ~64k primitives are
+  /// Build threads; 0 = hardwareThreads(). The tree does not depend on it. Inputs below 32768 primitives are
   /// built on the calling thread whatever this says. Default 0.
   int threads = 0;
 };
