@@ -5,7 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <optional>
 #include <random>
+#include <stdexcept>
 
 using namespace whitted;
 
@@ -71,7 +74,7 @@ void checkInvariants(const Bvh& bvh, const std::vector<Bounds3>& boxes) {
         }
       } else {
         ASSERT_LT(n.first[c], nodes.size());
-        ASSERT_GT(n.first[c], 0u);
+        ASSERT_GT(n.first[c], std::size_t(&n - nodes.data()));  // children after parents (refit relies on it)
         ++parents[n.first[c]];
         const BvhWideNode& child = nodes[n.first[c]];
         // Both in the tree's anchored float coordinates: nesting is exact there
@@ -91,66 +94,241 @@ void checkInvariants(const Bvh& bvh, const std::vector<Bounds3>& boxes) {
   EXPECT_LT(bvh.depth(), Bvh::kStackSize);
 }
 
-}  // namespace
-
-TEST(Bvh, NodesContainChildrenAndEveryPrimitiveOnce) {
-  auto boxes = randomBoxes(5000, 1);
+std::vector<Vec3> centers(const std::vector<Bounds3>& boxes) {
   std::vector<Vec3> cents;
   for (auto& b : boxes) cents.push_back(b.center());
-  Bvh bvh;
-  bvh.build(boxes, cents);
-  checkInvariants(bvh, boxes);
+  return cents;
 }
 
-// Above 65536 primitives the top levels are built by parallel threads and spliced together.
-TEST(Bvh, ParallelBuildKeepsInvariants) {
-  auto boxes = randomBoxes(300000, 2);
-  std::vector<Vec3> cents;
-  for (auto& b : boxes) cents.push_back(b.center());
-  Bvh bvh;
-  bvh.build(boxes, cents);
-  checkInvariants(bvh, boxes);
+BvhBuildOptions withQuality(BvhBuildQuality q, int threads = 0) {
+  BvhBuildOptions opt;
+  opt.quality = q;
+  opt.threads = threads;
+  return opt;
 }
 
-TEST(Bvh, CoincidentCentroidsStillSplit) {
-  std::vector<Bounds3> boxes(1000, Bounds3{Vec3(0), Vec3(1)});
-  std::vector<Vec3> cents(1000, Vec3(0.5));
-  Bvh bvh;
-  bvh.build(boxes, cents);
-  checkInvariants(bvh, boxes);
+/// Expected cost of a random ray through the tree (surface-area heuristic: node visit 1, primitive test 1).
+double sahCost(const Bvh& bvh) {
+  double cost = 1.0;
+  const double rootArea = bvh.bounds().halfArea();
+  for (const BvhWideNode& n : bvh.nodes())
+    for (int c = 0; c < 4; ++c) {
+      if (n.count[c] == BvhWideNode::kEmpty) continue;
+      Bounds3 b{Vec3(n.b[0][c], n.b[1][c], n.b[2][c]), Vec3(n.b[3][c], n.b[4][c], n.b[5][c])};
+      cost += b.halfArea() / rootArea * (n.count[c] > 0 ? n.count[c] : 1.0);
+    }
+  return cost;
 }
 
-TEST(Bvh, ClosestHitMatchesBruteForce) {
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> U(-1, 1);
-  TriangleMesh m;
-  for (int i = 0; i < 2000; ++i) {
-    Vec3 c(U(rng) * 5, U(rng) * 5, U(rng) * 5);
-    uint32_t b = uint32_t(m.positions.size());
-    m.positions.push_back(c);
-    m.positions.push_back(c + Vec3(U(rng), U(rng), U(rng)) * 0.5);
-    m.positions.push_back(c + Vec3(U(rng), U(rng), U(rng)) * 0.5);
-    m.triangles.push_back({b, b + 1, b + 2});
+bool sameTree(const Bvh& a, const Bvh& b) {
+  return a.nodes().size() == b.nodes().size() && a.primIndices() == b.primIndices() &&
+         std::memcmp(a.nodes().data(), b.nodes().data(), a.nodes().size() * sizeof(BvhWideNode)) == 0;
+}
+
+class BvhQuality : public testing::TestWithParam<BvhBuildQuality> {};
+
+/// Random triangles (in a cube of edge 10) and their boxes.
+struct Triangles {
+  TriangleMesh mesh;  // triangle i: vertices 3i, 3i+1, 3i+2
+  std::vector<Bounds3> boxes;
+  Triangles(int n, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> U(-1, 1);
+    for (int i = 0; i < n; ++i) {
+      Vec3 c(U(rng) * 5, U(rng) * 5, U(rng) * 5);
+      for (int k = 0; k < 3; ++k) mesh.positions.push_back(k == 0 ? c : c + Vec3(U(rng), U(rng), U(rng)) * 0.5);
+      mesh.triangles.push_back({3 * i, 3 * i + 1, 3 * i + 2});
+    }
+    updateBoxes();
   }
-  Scene scene;
-  TriangleMesh copy = m;
-  scene.addInstance(scene.addMesh(std::move(copy)), Mat4(1.0), scene.addMaterial(Material{}));
-  scene.commit();
-  int hits = 0;
-  for (int k = 0; k < 2000; ++k) {
-    Ray r;
-    r.origin = Vec3(U(rng), U(rng), U(rng)) * 8.0;
-    r.dir = glm::normalize(Vec3(U(rng), U(rng), U(rng)));
+  void updateBoxes() {
+    boxes.assign(mesh.triangles.size(), Bounds3());
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) boxes[i / 3].extend(mesh.positions[i]);
+  }
+  std::optional<PrimHit> intersect(const Ray& r, uint32_t i) const {
+    return intersectTriangle(r, mesh.positions[3 * i], mesh.positions[3 * i + 1], mesh.positions[3 * i + 2]);
+  }
+  /// Closest hit distance over all triangles (infinity for none); prim: the lowest index at that distance.
+  double bruteForce(const Ray& r, uint32_t& prim) const {
     double best = kInfinity;
-    uint32_t bestPrim = 0;
-    for (uint32_t i = 0; i < m.triangles.size(); ++i) {
-      auto& t = m.triangles[i];
-      auto h = intersectTriangle(r, m.positions[t.x], m.positions[t.y], m.positions[t.z]);
+    for (uint32_t i = 0; i < boxes.size(); ++i) {
+      auto h = intersect(r, i);
       if (h && h->t < best) {
         best = h->t;
-        bestPrim = i;
+        prim = i;
       }
     }
+    return best;
+  }
+};
+
+Ray randomRay(std::mt19937& rng) {
+  std::uniform_real_distribution<double> U(-1, 1);
+  Ray r;
+  r.origin = Vec3(U(rng), U(rng), U(rng)) * 8.0;
+  r.dir = glm::normalize(Vec3(U(rng), U(rng), U(rng)));
+  return r;
+}
+
+/// Closest hits through the tree equal brute force over every triangle (same t, same triangle) for random rays.
+void expectClosestHitsMatch(const Bvh& bvh, const Triangles& tris, unsigned seed) {
+  std::mt19937 rng(seed);
+  int hits = 0;
+  for (int k = 0; k < 1000; ++k) {
+    const Ray r = randomRay(rng);
+    uint32_t bestPrim = 0;
+    const double best = tris.bruteForce(r, bestPrim);
+    double tMax = r.tMax;
+    uint32_t prim = 0;
+    bool found = bvh.traverse<false>(r, tMax, [&](uint32_t first, uint32_t count, double& t) {
+      bool any = false;
+      for (uint32_t i = first; i < first + count; ++i) {
+        const uint32_t p = bvh.primIndices()[i];
+        auto h = tris.intersect(r, p);
+        if (h && (h->t < t || (h->t == t && p < prim))) {  // ties: the lower index, as the brute force
+          t = h->t;
+          prim = p;
+          any = true;
+        }
+      }
+      return any;
+    });
+    ASSERT_EQ(found, std::isfinite(best)) << "ray " << k;
+    if (found) {
+      ++hits;
+      EXPECT_EQ(tMax, best);
+      EXPECT_EQ(prim, bestPrim);
+    }
+  }
+  EXPECT_GT(hits, 100);
+}
+
+}  // namespace
+
+TEST_P(BvhQuality, NodesContainChildrenAndEveryPrimitiveOnce) {
+  auto boxes = randomBoxes(5000, 1);
+  Bvh bvh;
+  bvh.build(boxes, centers(boxes), withQuality(GetParam()));
+  checkInvariants(bvh, boxes);
+}
+
+TEST_P(BvhQuality, CoincidentCentroidsStillSplit) {
+  for (int n : {1000, 70000}) {  // sequential and chunked passes
+    std::vector<Bounds3> boxes(n, Bounds3{Vec3(0), Vec3(1)});
+    std::vector<Vec3> cents(n, Vec3(0.5));
+    Bvh bvh;
+    bvh.build(boxes, cents, withQuality(GetParam()));
+    checkInvariants(bvh, boxes);
+  }
+}
+
+TEST_P(BvhQuality, ClosestHitsMatchBruteForce) {
+  Triangles tris(3000, 4);
+  Bvh bvh;
+  bvh.build(tris.boxes, centers(tris.boxes), withQuality(GetParam()));
+  expectClosestHitsMatch(bvh, tris, 5);
+}
+
+// Points move, topology stays: after refit the boxes contain the moved primitives and hits are still exact.
+TEST_P(BvhQuality, RefitFollowsMovedPrimitives) {
+  Triangles tris(3000, 6);
+  Bvh bvh;
+  bvh.build(tris.boxes, centers(tris.boxes), withQuality(GetParam()));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (Vec3& p : tris.mesh.positions) p += Vec3(U(rng), U(rng), U(rng)) * 0.8;  // larger than the triangles themselves
+  tris.updateBoxes();
+  const std::vector<uint32_t> order = bvh.primIndices();
+  bvh.refit(tris.boxes);
+  EXPECT_EQ(bvh.primIndices(), order);
+  checkInvariants(bvh, tris.boxes);
+  Bounds3 all;
+  for (const Bounds3& b : tris.boxes) all.extend(b);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_LE(bvh.bounds().lo[a], all.lo[a]);
+    EXPECT_GE(bvh.bounds().hi[a], all.hi[a]);
+  }
+  expectClosestHitsMatch(bvh, tris, 8);
+}
+
+// Refit on the build's own boxes reproduces the built boxes bit for bit (same outward rounding).
+TEST_P(BvhQuality, RefitOnSameBoxesChangesNothing) {
+  auto boxes = randomBoxes(50000, 9);
+  Bvh built, refitted;
+  built.build(boxes, centers(boxes), withQuality(GetParam()));
+  refitted = built;
+  refitted.refit(boxes);
+  EXPECT_TRUE(sameTree(built, refitted));
+  EXPECT_THROW(refitted.refit(std::vector<Bounds3>(boxes.begin(), boxes.end() - 1)), std::invalid_argument);
+}
+
+INSTANTIATE_TEST_SUITE_P(Bvh, BvhQuality, testing::Values(BvhBuildQuality::Sah, BvhBuildQuality::Fast),
+                         [](const testing::TestParamInfo<BvhBuildQuality>& i) {
+                           return i.param == BvhBuildQuality::Sah ? "Sah" : "Fast";
+                         });
+
+// Above 32768 primitives large nodes bin and partition in parallel chunks and subtrees are built as tasks on a
+// thread pool (the ThreadSanitizer suite runs this test). The tree is a function of the input only: the same nodes
+// and primitive order on 1, 2 and 3 threads.
+TEST(Bvh, ParallelBuildKeepsInvariantsAndIsDeterministic) {
+  auto boxes = randomBoxes(200000, 2);
+  const auto cents = centers(boxes);
+  for (BvhBuildQuality q : {BvhBuildQuality::Sah, BvhBuildQuality::Fast}) {
+    Bvh one, two, three;
+    one.build(boxes, cents, withQuality(q, 1));
+    two.build(boxes, cents, withQuality(q, 2));
+    three.build(boxes, cents, withQuality(q, 3));
+    checkInvariants(two, boxes);
+    EXPECT_TRUE(sameTree(one, two));
+    EXPECT_TRUE(sameTree(one, three));
+    // Refit on more threads than one, too
+    for (Bounds3& b : boxes) b.hi += Vec3(0.05);
+    two.refit(boxes);
+    checkInvariants(two, boxes);
+  }
+}
+
+// Single-primitive leaves need more wide nodes per primitive than a subtree reserves up front (its nodes then move
+// to storage of their own): the tree stays whole and the same on 1 and 2 threads.
+TEST(Bvh, ParallelBuildOfSinglePrimitiveLeaves) {
+  auto boxes = randomBoxes(100000, 11);
+  const auto cents = centers(boxes);
+  for (BvhBuildQuality q : {BvhBuildQuality::Sah, BvhBuildQuality::Fast}) {
+    BvhBuildOptions opt = withQuality(q, 1);
+    opt.maxLeafSize = 1;
+    opt.traversalCost = 0.01;
+    Bvh one, two;
+    one.build(boxes, cents, opt);
+    opt.threads = 2;
+    two.build(boxes, cents, opt);
+    EXPECT_GT(two.nodes().size(), boxes.size() / 3);
+    checkInvariants(two, boxes);
+    EXPECT_TRUE(sameTree(one, two));
+  }
+}
+
+// The SAH build is the better tree: lower expected cost than the Morton build of the same boxes.
+TEST(Bvh, SahBuildBeatsFastBuildOnSahCost) {
+  auto boxes = randomBoxes(100000, 10);
+  const auto cents = centers(boxes);
+  Bvh sah, fast;
+  sah.build(boxes, cents, withQuality(BvhBuildQuality::Sah));
+  fast.build(boxes, cents, withQuality(BvhBuildQuality::Fast));
+  EXPECT_LT(sahCost(sah), 0.95 * sahCost(fast));
+}
+
+// Through the scene (two levels, leaf-ordered triangle copies) as well as through the bare tree.
+TEST(Bvh, ClosestHitMatchesBruteForce) {
+  Triangles tris(2000, 3);
+  Scene scene;
+  scene.addInstance(scene.addMesh(TriangleMesh(tris.mesh)), Mat4(1.0), scene.addMaterial(Material{}));
+  scene.commit();
+  std::mt19937 rng(4);
+  int hits = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const Ray r = randomRay(rng);
+    uint32_t bestPrim = 0;
+    const double best = tris.bruteForce(r, bestPrim);
     Hit h;
     bool found = scene.intersect(r, h);
     ASSERT_EQ(found, std::isfinite(best));
