@@ -230,7 +230,7 @@ class Bvh {
 
  private:
   std::vector<BvhWideNode> wide_;
-  Vec3 anchor_{0.0};  ///< Centre of the input boxes' bounds; node boxes are stored relative to it.
+  Vec3 anchor_{0.0};  ///< The first finite centroid; node boxes are stored relative to it.
   Bounds3 bounds_;
   std::vector<uint32_t> primIndices_;
   int depth_ = 0;
