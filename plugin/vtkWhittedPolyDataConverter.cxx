@@ -512,6 +512,94 @@ vtkDataArray* UsableCoordinates(vtkDataArray* a, vtkIdType np, bool& shortArray)
 }
 
 //------------------------------------------------------------------------------
+// Normals by VTK's rule: point normals unless the interpolation is flat, else cell normals, else
+// none (facet normals). Arrays shorter than what they describe (or not 3 components) are ignored
+// and counted in shortArray.
+void ChooseNormals(const PrimitiveInput& in, vtkDataArray*& pointNormals,
+  vtkDataArray*& cellNormals, bool& shortArray)
+{
+  pointNormals = in.Opts.Flat ? nullptr : in.Poly->GetPointData()->GetNormals();
+  if (pointNormals &&
+    (pointNormals->GetNumberOfTuples() < in.NumberOfPoints ||
+      pointNormals->GetNumberOfComponents() != 3))
+  {
+    pointNormals = nullptr;
+    shortArray = true;
+  }
+  cellNormals = pointNormals ? nullptr : in.Poly->GetCellData()->GetNormals();
+  if (cellNormals &&
+    (cellNormals->GetNumberOfTuples() < in.Cells.Total ||
+      cellNormals->GetNumberOfComponents() != 3))
+  {
+    cellNormals = nullptr;
+    shortArray = true;
+  }
+}
+
+//------------------------------------------------------------------------------
+// A normal of a normals array as the core takes it. Bad vectors (NaN, infinite, zero) are left to
+// the core, which falls back to the facet normal, but counted.
+Vec3f NormalAt(vtkDataArray* normals, vtkIdType i, vtkIdType& bad)
+{
+  double n[3];
+  normals->GetTuple(i, n);
+  const Vec3f v(static_cast<float>(n[0]), static_cast<float>(n[1]), static_cast<float>(n[2]));
+  if (!whitted::isFinite(v) || !(glm::dot(v, v) > 0.0f))
+  {
+    ++bad;
+  }
+  return v;
+}
+
+//------------------------------------------------------------------------------
+// The per-point attributes a mesh vertex takes from its point: position, colour, texture
+// coordinates of the actor's texture, or the colour-map coordinate (first component) of
+// InterpolateScalarsBeforeMapping (the mapper gives one or the other, never both).
+struct VertexAttributes
+{
+  const PrimitiveInput& In;
+  vtkDataArray* TCoords;
+  vtkDataArray* ColorCoords;
+
+  VertexAttributes(const PrimitiveInput& in, vtkWhittedPolyDataConverter::Problems& issues)
+    : In(in)
+    , TCoords(UsableCoordinates(in.Opts.TCoords ? in.Poly->GetPointData()->GetTCoords() : nullptr,
+        in.NumberOfPoints, issues.ShortTCoords))
+    , ColorCoords(UsableCoordinates(in.Colors.Coordinates, in.NumberOfPoints, issues.ShortTCoords))
+  {
+  }
+
+  void Resize(whitted::TriangleMesh& m, size_t n) const
+  {
+    m.positions.resize(n);
+    m.vertexColors.resize(this->In.Colors.PointColors() ? n : 0);
+    m.texcoords.resize(this->TCoords ? n : 0);
+    m.colorCoords.resize(this->ColorCoords ? n : 0);
+  }
+
+  // Vertex v from point pid
+  void Set(whitted::TriangleMesh& m, size_t v, vtkIdType pid) const
+  {
+    m.positions[v] = this->In.Point(pid);
+    if (this->In.Colors.PointColors())
+    {
+      m.vertexColors[v] = this->In.Colors.Point(pid);
+    }
+    if (this->TCoords)
+    {
+      double t[3] = { 0.0, 0.0, 0.0 };
+      this->TCoords->GetTuple(pid, t);
+      m.texcoords[v] = Vec2f(static_cast<float>(t[0]),
+        this->TCoords->GetNumberOfComponents() > 1 ? static_cast<float>(t[1]) : 0.5f);
+    }
+    if (this->ColorCoords)
+    {
+      m.colorCoords[v] = static_cast<float>(this->ColorCoords->GetComponent(pid, 0));
+    }
+  }
+};
+
+//------------------------------------------------------------------------------
 // Polygons and strips as a triangle mesh, with normals by VTK's rule, colours, texture coordinates
 // (for the actor's texture) and colour-map coordinates (InterpolateScalarsBeforeMapping).
 void AddTriangles(const PrimitiveInput& in, vtkWhittedPolyDataConverter::Primitives& out,
@@ -523,87 +611,21 @@ void AddTriangles(const PrimitiveInput& in, vtkWhittedPolyDataConverter::Primiti
   {
     return;
   }
-  const vtkIdType np = in.NumberOfPoints;
-  const ColorSource& colors = in.Colors;
+  vtkDataArray* pointNormals = nullptr;
+  vtkDataArray* cellNormals = nullptr;
+  ChooseNormals(in, pointNormals, cellNormals, issues.ShortNormals);
+  const VertexAttributes attributes(in, issues);
+  out.TCoords = attributes.TCoords != nullptr;
 
-  // Normals, by VTK's rule: point normals unless flat, else cell normals, else facet normals.
-  // Arrays shorter than what they describe are ignored; bad vectors are left to the core (which
-  // falls back to the facet normal) but counted.
-  vtkDataArray* pointNormals = in.Opts.Flat ? nullptr : in.Poly->GetPointData()->GetNormals();
-  if (pointNormals &&
-    (pointNormals->GetNumberOfTuples() < np || pointNormals->GetNumberOfComponents() != 3))
-  {
-    pointNormals = nullptr;
-    issues.ShortNormals = true;
-  }
-  vtkDataArray* cellNormals = pointNormals ? nullptr : in.Poly->GetCellData()->GetNormals();
-  if (cellNormals &&
-    (cellNormals->GetNumberOfTuples() < in.Cells.Total ||
-      cellNormals->GetNumberOfComponents() != 3))
-  {
-    cellNormals = nullptr;
-    issues.ShortNormals = true;
-  }
-  auto normal = [&](vtkDataArray* normals, vtkIdType i)
-  {
-    double n[3];
-    normals->GetTuple(i, n);
-    const Vec3f v(static_cast<float>(n[0]), static_cast<float>(n[1]), static_cast<float>(n[2]));
-    if (!whitted::isFinite(v) || !(glm::dot(v, v) > 0.0f))
-    {
-      ++issues.BadNormals;
-    }
-    return v;
-  };
-
-  // Texture coordinates of the actor's texture, or the colour-map coordinate (first component)
-  // of InterpolateScalarsBeforeMapping (the mapper gives one or the other, never both)
-  vtkDataArray* tcoords = UsableCoordinates(
-    in.Opts.TCoords ? in.Poly->GetPointData()->GetTCoords() : nullptr, np, issues.ShortTCoords);
-  vtkDataArray* colorCoords = UsableCoordinates(colors.Coordinates, np, issues.ShortTCoords);
-  auto tcoord = [&](vtkIdType i)
-  {
-    double t[3] = { 0.0, 0.0, 0.0 };
-    tcoords->GetTuple(i, t);
-    return Vec2f(static_cast<float>(t[0]),
-      tcoords->GetNumberOfComponents() > 1 ? static_cast<float>(t[1]) : 0.5f);
-  };
-  auto colorCoord = [&](vtkIdType i)
-  { return static_cast<float>(colorCoords->GetComponent(i, 0)); };
-  out.TCoords = tcoords != nullptr;
-
-  // Per-vertex attributes of vertex v, taken from point pid
   whitted::TriangleMesh& m = out.Mesh;
-  auto setVertex = [&](size_t v, vtkIdType pid)
-  {
-    m.positions[v] = in.Point(pid);
-    if (colors.PointColors())
-    {
-      m.vertexColors[v] = colors.Point(pid);
-    }
-    if (tcoords)
-    {
-      m.texcoords[v] = tcoord(pid);
-    }
-    if (colorCoords)
-    {
-      m.colorCoords[v] = colorCoord(pid);
-    }
-  };
-  auto resizeVertices = [&](size_t n)
-  {
-    m.positions.resize(n);
-    m.vertexColors.resize(colors.PointColors() ? n : 0);
-    m.texcoords.resize(tcoords ? n : 0);
-    m.colorCoords.resize(colorCoords ? n : 0);
-  };
   if (!cellNormals)
   {
     // Shared vertices
-    resizeVertices(static_cast<size_t>(np));
+    const vtkIdType np = in.NumberOfPoints;
+    attributes.Resize(m, static_cast<size_t>(np));
     for (vtkIdType i = 0; i < np; ++i)
     {
-      setVertex(static_cast<size_t>(i), i);
+      attributes.Set(m, static_cast<size_t>(i), i);
     }
     m.triangles = std::move(tl.Tris);
     if (pointNormals)
@@ -611,7 +633,7 @@ void AddTriangles(const PrimitiveInput& in, vtkWhittedPolyDataConverter::Primiti
       m.normals.resize(static_cast<size_t>(np));
       for (vtkIdType i = 0; i < np; ++i)
       {
-        m.normals[i] = normal(pointNormals, i);
+        m.normals[i] = NormalAt(pointNormals, i, issues.BadNormals);
       }
     }
   }
@@ -620,7 +642,7 @@ void AddTriangles(const PrimitiveInput& in, vtkWhittedPolyDataConverter::Primiti
     // Cell normals: the core interpolates per-vertex normals only, so each triangle gets its own
     // three vertices carrying its cell's normal
     const size_t nt = tl.Tris.size();
-    resizeVertices(nt * 3);
+    attributes.Resize(m, nt * 3);
     m.normals.resize(nt * 3);
     m.triangles.resize(nt);
     vtkIdType lastCell = -1;
@@ -630,22 +652,22 @@ void AddTriangles(const PrimitiveInput& in, vtkWhittedPolyDataConverter::Primiti
       if (tl.Cells[t] != lastCell)
       {
         lastCell = tl.Cells[t];
-        n = normal(cellNormals, lastCell);
+        n = NormalAt(cellNormals, lastCell, issues.BadNormals);
       }
       for (int k = 0; k < 3; ++k)
       {
-        setVertex(t * 3 + k, tl.Tris[t][k]);
+        attributes.Set(m, t * 3 + k, tl.Tris[t][k]);
         m.normals[t * 3 + k] = n;
       }
       m.triangles[t] = glm::uvec3(t * 3, t * 3 + 1, t * 3 + 2);
     }
   }
-  if (colors.CellColors())
+  if (in.Colors.CellColors())
   {
     m.triangleColors.resize(tl.Cells.size());
     for (size_t t = 0; t < tl.Cells.size(); ++t)
     {
-      m.triangleColors[t] = colors.CellColor(tl.Cells[t]);
+      m.triangleColors[t] = in.Colors.CellColor(tl.Cells[t]);
     }
   }
 }
