@@ -4,7 +4,7 @@
 
 #include "math.h"
 
-#include <emmintrin.h>  // SSE2: part of every x86-64 CPU (Debian 12's baseline)
+#include <xmmintrin.h>  // SSE: part of every x86-64 CPU (Debian 12's baseline)
 
 #include <cstddef>
 #include <vector>
@@ -33,28 +33,63 @@ struct alignas(16) BvhWideNode {
   uint32_t count[4];
 };
 
+/// Build algorithm: the binned SAH build gives the fastest traversal; the Morton (LBVH) build takes a fraction of
+/// its time for a tree that traces somewhat slower (first frames, time steps, geometry that changes every frame).
+enum class BvhBuildQuality { Sah, Fast };
+
 struct BvhBuildOptions {
-  int maxLeafSize = 8;         ///< Leaves never hold more primitives than this (unless all centroids coincide).
-  int bins = 16;               ///< SAH bins per axis.
+  BvhBuildQuality quality = BvhBuildQuality::Sah;  ///< Default Sah.
+  /// Leaves never hold more primitives than this (unless all centroids coincide); the Fast build uses at most 4.
+  int maxLeafSize = 8;
+  int bins = 16;  ///< SAH bins per axis (2..32); nodes under 240 primitives use 4 + count / 20. Default 16.
   double traversalCost = 1.0;  ///< SAH cost of visiting a node, relative to one primitive test.
+  /// Build threads; 0 = hardwareThreads(). The tree does not depend on it. Inputs below 32768 primitives are
+  /// built on the calling thread whatever this says. Default 0.
+  int threads = 0;
 };
 
-/// Ray data precomputed once per traversal.
-struct RayTraversal {
-  Vec3 origin;
-  Vec3 invDir;
-  bool negative[3];  ///< Direction component negative: the near plane is the box's hi face on that axis.
+/// A ray prepared for the single-precision box tests of one tree: origin relative to the tree's anchor and
+/// direction scaled by a power of two (so t' = t * tScale exactly), each rounded so that every computed entry
+/// distance is at most, and every exit distance at least, the exact one of the double-precision ray (Embree's
+/// robust mode, extended to a double ray): per axis the origin is rounded up for one plane and down for the other,
+/// and the reciprocal direction toward zero for the near plane and away from zero for the far plane, by a margin
+/// (2^-20) that covers the float subtraction's and product's rounding (2^-24 each). Overflow stays conservative:
+/// a near reciprocal saturates at FLT_MAX, a far one may be infinite, and an origin beyond float range rounds to
+/// +-FLT_MAX or +-inf on the conservative side. NaN products (0 * inf: an origin on a face plane of a parallel
+/// ray) are ignored by the min/max, which keeps such a ray (conservative).
+struct BoxRay {
+  __m128 orgNear[3], orgFar[3], invNear[3], invFar[3];
   int nearBound[3], farBound[3];  ///< Index into BvhWideNode::b of the near / far plane per axis.
-  explicit RayTraversal(const Ray& r) : origin(r.origin) {
-    for (int i = 0; i < 3; ++i) {
-      // Slopes below 1e-290 (incl. denormals, whose reciprocal overflows) are treated as parallel: the reciprocal
-      // is +-inf, and slab() ignores the NaN that 0 * inf gives for an origin exactly on a face plane, so such a
-      // ray is kept (conservative) while a parallel ray outside the slab gets +-inf and is rejected.
-      double d = std::abs(r.dir[i]) < 1e-290 ? std::copysign(0.0, r.dir[i]) : r.dir[i];
-      invDir[i] = d != 0.0 ? 1.0 / d : std::copysign(kInfinity, d);
-      negative[i] = std::signbit(invDir[i]);
-      nearBound[i] = negative[i] ? 3 + i : i;
-      farBound[i] = negative[i] ? i : 3 + i;
+  double tScale = 1.0;            ///< Box-test distances are t * tScale.
+  BoxRay(const Ray& r, const Vec3& anchor) {
+    // Power-of-two scale bringing the largest direction component into [1, 2) (exact, keeps t' in float range)
+    // (exponent bits of the largest component; callers pass finite directions)
+    const double m = std::max(std::abs(r.dir.x), std::max(std::abs(r.dir.y), std::abs(r.dir.z)));
+    uint64_t bits;
+    std::memcpy(&bits, &m, sizeof bits);
+    const int biased = int(bits >> 52);  // 0 for zero and subnormal components: no scaling then
+    const int e = biased == 0 ? 0 : std::min(biased - 1023, 1022);
+    const uint64_t sBits = uint64_t(1023 - e) << 52, tBits = uint64_t(1023 + e) << 52;
+    double s;  // d' = d * s = d * 2^-e, and t' = t * 2^e
+    std::memcpy(&s, &sBits, sizeof s);
+    std::memcpy(&tScale, &tBits, sizeof tScale);
+    constexpr double kMargin = 0x1p-20;
+    for (int a = 0; a < 3; ++a) {
+      const double d = r.dir[a] * s;
+      const bool negative = std::signbit(d);
+      nearBound[a] = negative ? 3 + a : a;
+      farBound[a] = negative ? a : 3 + a;
+      // o - anchor carries one double rounding, which floatAbove / floatBelow (strictly above / below) cover
+      const double o = r.origin[a] - anchor[a];
+      orgNear[a] = _mm_set1_ps(negative ? floatBelow(o) : floatAbove(o));
+      orgFar[a] = _mm_set1_ps(negative ? floatAbove(o) : floatBelow(o));
+      const double inv = d != 0.0 ? 1.0 / d : std::copysign(kInfinity, d);
+      const double nearMag = std::min(std::abs(inv) * (1.0 - kMargin), double(std::numeric_limits<float>::max()));
+      const double farMag = std::abs(inv) * (1.0 + kMargin);
+      const float nearF = std::min(floatBelow(nearMag), std::numeric_limits<float>::max());
+      const float farF = floatAbove(farMag);
+      invNear[a] = _mm_set1_ps(negative ? -std::max(nearF, 0.0f) : std::max(nearF, 0.0f));
+      invFar[a] = _mm_set1_ps(negative ? -farF : farF);
     }
   }
 };
@@ -70,9 +105,14 @@ class Bvh {
 
   /// Builds over boxes[i] with representative points centroids[i]. Empty input gives an empty tree.
   void build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids, const BvhBuildOptions& opt = {});
+  /// Recomputes every node box bottom-up from new primitive boxes (same count and order as the build's), keeping
+  /// the topology: for primitives that moved but stay the same primitives (time steps, deformed meshes). Boxes are
+  /// rounded outward exactly as build() rounds them, so traversal stays conservative; the tree's quality decays
+  /// with the motion (rebuild when it matters). Throws std::invalid_argument if the count differs.
+  void refit(const std::vector<Bounds3>& boxes);
 
   bool empty() const { return wide_.empty(); }
-  /// The 4-wide traversal nodes; node 0 is the root. (The binary SAH tree they are collapsed from is freed.)
+  /// The 4-wide traversal nodes; node 0 is the root, and every child node has a larger index than its parent.
   const std::vector<BvhWideNode>& nodes() const { return wide_; }
   /// Primitive order of the leaves: leaf slot -> original primitive index.
   const std::vector<uint32_t>& primIndices() const { return primIndices_; }
@@ -85,107 +125,112 @@ class Bvh {
   /// Visits leaves front to back. leaf(first, count, tMax) tests primitive slots [first, first+count), may
   /// shrink tMax (closest hit) and returns true if it found a hit. With AnyHit, traversal stops at the first leaf
   /// returning true. Returns whether any leaf returned true. nodesVisited (if given) counts visited wide nodes.
-  /// Performance note: 4-wide nodes, their four boxes tested two at a time with SSE2 in double precision (the
-  /// same slab arithmetic per box as slab(), so exactly the same boxes are entered); the stack carries each
-  /// entry's distance, so entries behind a hit found meanwhile are dropped unvisited; fixed-size stack, no
-  /// allocation, no virtual call; the callback is inlined.
+  /// A ray with a non-finite origin or direction visits nothing (no primitive test can hit it).
+  /// Performance note: 4-wide nodes, their four boxes tested at once in single precision (one SSE register per
+  /// plane), conservatively for the double ray (BoxRay); the stack carries each entry's distance, so entries
+  /// behind a hit found meanwhile are dropped unvisited; fixed-size stack, no allocation, no virtual call; the
+  /// callback is inlined.
   template <bool AnyHit, typename LeafFn>
   bool traverse(const Ray& ray, double& tMax, LeafFn&& leaf, uint64_t* nodesVisited = nullptr) const {
-    if (wide_.empty()) return false;
-    const RayTraversal rt(ray);
+    if (wide_.empty() || !isFinite(ray.origin) || !isFinite(ray.dir)) return false;
+    const BoxRay br(ray, anchor_);
     struct Entry {
-      double t;
+      float t;  // entry distance (box-test units), at most the exact one
       uint32_t first, count;
     };
     Entry stack[kWideStackSize];
     int sp = 0;
     uint64_t visited = 0;  // counted locally, stored once (no memory write per node)
     bool hitAny = false;
-    const __m128d org[3] = {_mm_set1_pd(rt.origin.x), _mm_set1_pd(rt.origin.y), _mm_set1_pd(rt.origin.z)};
-    const __m128d inv[3] = {_mm_set1_pd(rt.invDir.x), _mm_set1_pd(rt.invDir.y), _mm_set1_pd(rt.invDir.z)};
-    const __m128d widen = _mm_set1_pd(1.0 + 2.0 * gammaBound(3));
-    const __m128d tMinV = _mm_set1_pd(ray.tMin);
-    stack[sp++] = Entry{ray.tMin, 0, 0};
-    while (sp > 0) {
-      const Entry e = stack[--sp];
-      if (e.t > tMax) continue;  // behind a hit found since it was pushed
-      if (e.count > 0) {
-        ++visited;
-        if (leaf(e.first, e.count, tMax)) {
+    const __m128 tMinV = _mm_set1_ps(floatBelow(ray.tMin * br.tScale));
+    float tMaxF = floatAbove(tMax * br.tScale);
+    // The nearest entered child is visited next without a trip through the stack; the others are pushed
+    Entry cur{-std::numeric_limits<float>::infinity(), 0, 0};
+    for (;;) {
+      ++visited;
+      if (cur.count > 0) {
+        if (leaf(cur.first, cur.count, tMax)) {
           hitAny = true;
           if constexpr (AnyHit) break;
+          tMaxF = floatAbove(tMax * br.tScale);
         }
-        continue;
-      }
-      const BvhWideNode& n = wide_[e.first];
-      ++visited;
-      // Slab test of the four children, two per SSE2 register
-      const __m128d tMaxV = _mm_set1_pd(tMax);
-      alignas(16) double tNear[4];
-      int hitMask = 0;
-      for (int half = 0; half < 2; ++half) {
-        __m128d t0 = tMinV, t1 = tMaxV;
-        for (int a = 0; a < 3; ++a) {
-          const __m128d nearPlane = _mm_cvtps_pd(_mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(
-              &n.b[rt.nearBound[a]][2 * half]))));
-          const __m128d farPlane = _mm_cvtps_pd(_mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(
-              &n.b[rt.farBound[a]][2 * half]))));
-          const __m128d lo = _mm_mul_pd(_mm_sub_pd(nearPlane, org[a]), inv[a]);
-          const __m128d hi = _mm_mul_pd(_mm_mul_pd(_mm_sub_pd(farPlane, org[a]), inv[a]), widen);
-          // max(lo, t0) / min(hi, t1) return the second operand for a NaN first one, as slab() ignores NaN
-          t0 = _mm_max_pd(lo, t0);
-          t1 = _mm_min_pd(hi, t1);
-        }
-        _mm_store_pd(tNear + 2 * half, t0);
-        hitMask |= _mm_movemask_pd(_mm_cmple_pd(t0, t1)) << (2 * half);
-      }
-      if constexpr (AnyHit) {
-        // Any hit ends the query (shadow rays): no ordering, every entered child is pushed as it comes
-        for (int c = 0; c < 4; ++c)
-          if ((hitMask & (1 << c)) && n.count[c] != BvhWideNode::kEmpty)  // a NaN ray "enters" even empty boxes
-            stack[sp++] = Entry{tNear[c], n.first[c], n.count[c]};
       } else {
-        // Push the entered children farthest first, so the nearest is popped next
-        int order[4], k = 0;
-        for (int c = 0; c < 4; ++c)
-          if ((hitMask & (1 << c)) && n.count[c] != BvhWideNode::kEmpty) {  // NaN rays "enter" empty boxes too
-            int j = k++;
-            while (j > 0 && tNear[order[j - 1]] < tNear[c]) {
-              order[j] = order[j - 1];
-              --j;
+        const BvhWideNode& n = wide_[cur.first];
+        // Slab test of the four children at once
+        __m128 t0 = tMinV, t1 = _mm_set1_ps(tMaxF);
+        for (int a = 0; a < 3; ++a) {
+          const __m128 lo = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[br.nearBound[a]]), br.orgNear[a]), br.invNear[a]);
+          const __m128 hi = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[br.farBound[a]]), br.orgFar[a]), br.invFar[a]);
+          // max(lo, t0) / min(hi, t1) return the second operand for a NaN first one: a NaN product is ignored
+          t0 = _mm_max_ps(lo, t0);
+          t1 = _mm_min_ps(hi, t1);
+        }
+        alignas(16) float tNear[4];
+        _mm_store_ps(tNear, t0);
+        // Empty slots have inverted boxes, which a finite ray never enters unless its origin is beyond float
+        // range (inf - inf): the count check covers that
+        unsigned mask = unsigned(_mm_movemask_ps(_mm_cmple_ps(t0, t1)));
+        if (mask != 0) {
+          if constexpr (AnyHit) {
+            // Any hit ends the query (shadow rays): no ordering, the first entered child is visited next
+            int next = -1;
+            for (; mask; mask &= mask - 1) {
+              const int c = __builtin_ctz(mask);
+              if (n.count[c] == BvhWideNode::kEmpty) continue;
+              if (next >= 0) stack[sp++] = Entry{tNear[next], n.first[next], n.count[next]};
+              next = c;
             }
-            order[j] = c;
+            if (next >= 0) {
+              cur = Entry{tNear[next], n.first[next], n.count[next]};
+              continue;
+            }
+          } else {
+            // Entered children by distance, nearest first; the rest are pushed farthest first
+            int order[4], k = 0;
+            for (; mask; mask &= mask - 1) {
+              const int c = __builtin_ctz(mask);
+              if (n.count[c] == BvhWideNode::kEmpty) continue;
+              int j = k++;
+              while (j > 0 && tNear[order[j - 1]] > tNear[c]) {
+                order[j] = order[j - 1];
+                --j;
+              }
+              order[j] = c;
+            }
+            if (k > 0) {
+              for (int j = k - 1; j > 0; --j) stack[sp++] = Entry{tNear[order[j]], n.first[order[j]], n.count[order[j]]};
+              cur = Entry{tNear[order[0]], n.first[order[0]], n.count[order[0]]};
+              continue;
+            }
           }
-        for (int j = 0; j < k; ++j) stack[sp++] = Entry{tNear[order[j]], n.first[order[j]], n.count[order[j]]};
+        }
       }
+      // Next entry from the stack, skipping those behind a hit found since they were pushed
+      do {
+        if (sp == 0) goto done;
+        cur = stack[--sp];
+      } while (cur.t > tMaxF);
     }
+  done:
     if (nodesVisited) *nodesVisited += visited;
     return hitAny;
   }
 
-  /// Slab test against a node; tEntry receives the entry distance. Near and far planes are chosen by the sign
-  /// of the direction (precomputed), so no per-axis swap is needed.
-  static bool slab(const BvhNode& n, const RayTraversal& r, double tMin, double tMax, double& tEntry) {
-    const float* lo = n.lo;
-    const float* hi = n.hi;
-    double t0 = tMin, t1 = tMax;
-    for (int i = 0; i < 3; ++i) {
-      double a = (double(r.negative[i] ? hi[i] : lo[i]) - r.origin[i]) * r.invDir[i];
-      double b = (double(r.negative[i] ? lo[i] : hi[i]) - r.origin[i]) * r.invDir[i];
-      // Widen the far distance by the rounding bound so the test stays conservative (pbrt-v4). A NaN (0 * inf:
-      // origin on a face plane of a parallel ray) compares false and leaves [t0, t1] unchanged.
-      b *= 1.0 + 2.0 * gammaBound(3);
-      t0 = a > t0 ? a : t0;
-      t1 = b < t1 ? b : t1;
+  /// The point node coordinates are relative to: b[k][c] + anchor[k % 3] bounds child c (conservatively).
+  const Vec3& anchor() const { return anchor_; }
+  /// Child c's box of a node, in the tree's input coordinates (double, containing the float box exactly).
+  Bounds3 childBounds(const BvhWideNode& n, int c) const {
+    Bounds3 b;
+    for (int k = 0; k < 3; ++k) {
+      b.lo[k] = std::nextafter(double(n.b[k][c]) + anchor_[k], -kInfinity);
+      b.hi[k] = std::nextafter(double(n.b[3 + k][c]) + anchor_[k], kInfinity);
     }
-    tEntry = t0;
-    return t0 <= t1;
+    return b;
   }
 
  private:
-  /// Fills wide_ from the binary SAH tree (root at 0).
-  void collapse(const std::vector<BvhNode>& binary);
   std::vector<BvhWideNode> wide_;
+  Vec3 anchor_{0.0};  ///< Centre of the input boxes' bounds; node boxes are stored relative to it.
   Bounds3 bounds_;
   std::vector<uint32_t> primIndices_;
   int depth_ = 0;

@@ -5,7 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <optional>
 #include <random>
+#include <stdexcept>
 
 using namespace whitted;
 
@@ -20,6 +23,28 @@ std::vector<Bounds3> randomBoxes(int n, unsigned seed) {
     boxes.push_back(Bounds3{c - Vec3(0.1), c + Vec3(0.2)});
   }
   return boxes;
+}
+
+/// Reference slab test of a double box in long double (no float rounding anywhere): a conservative traversal
+/// must enter every box this enters.
+bool exactSlab(const long double lo[3], const long double hi[3], const Ray& r) {
+  long double t0 = r.tMin, t1 = r.tMax;
+  for (int a = 0; a < 3; ++a) {
+    if (r.dir[a] == 0.0) {
+      if (r.origin[a] < lo[a] || r.origin[a] > hi[a]) return false;
+      continue;
+    }
+    long double ta = (lo[a] - r.origin[a]) / r.dir[a];
+    long double tb = (hi[a] - r.origin[a]) / r.dir[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  return t0 <= t1;
+}
+bool exactSlab(const Bounds3& b, const Ray& r) {
+  const long double lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
+  return exactSlab(lo, hi, r);
 }
 
 /// Every wide node's child box contains its child node's boxes / its primitives, every primitive is in exactly
@@ -41,16 +66,18 @@ void checkInvariants(const Bvh& bvh, const std::vector<Bounds3>& boxes) {
         for (uint32_t i = n.first[c]; i < n.first[c] + n.count[c]; ++i) {
           uint32_t p = bvh.primIndices()[i];
           ++seen[p];
+          const Bounds3 nb = bvh.childBounds(n, c);
           for (int a = 0; a < 3; ++a) {
-            ASSERT_LE(n.b[a][c], boxes[p].lo[a]);
-            ASSERT_GE(n.b[3 + a][c], boxes[p].hi[a]);
+            ASSERT_LE(nb.lo[a], boxes[p].lo[a]);
+            ASSERT_GE(nb.hi[a], boxes[p].hi[a]);
           }
         }
       } else {
         ASSERT_LT(n.first[c], nodes.size());
-        ASSERT_GT(n.first[c], 0u);
+        ASSERT_GT(n.first[c], std::size_t(&n - nodes.data()));  // children after parents (refit relies on it)
         ++parents[n.first[c]];
         const BvhWideNode& child = nodes[n.first[c]];
+        // Both in the tree's anchored float coordinates: nesting is exact there
         for (int cc = 0; cc < 4; ++cc) {
           if (child.count[cc] == BvhWideNode::kEmpty) continue;
           for (int a = 0; a < 3; ++a) {
@@ -67,66 +94,241 @@ void checkInvariants(const Bvh& bvh, const std::vector<Bounds3>& boxes) {
   EXPECT_LT(bvh.depth(), Bvh::kStackSize);
 }
 
-}  // namespace
-
-TEST(Bvh, NodesContainChildrenAndEveryPrimitiveOnce) {
-  auto boxes = randomBoxes(5000, 1);
+std::vector<Vec3> centers(const std::vector<Bounds3>& boxes) {
   std::vector<Vec3> cents;
   for (auto& b : boxes) cents.push_back(b.center());
-  Bvh bvh;
-  bvh.build(boxes, cents);
-  checkInvariants(bvh, boxes);
+  return cents;
 }
 
-// Above 65536 primitives the top levels are built by parallel threads and spliced together.
-TEST(Bvh, ParallelBuildKeepsInvariants) {
-  auto boxes = randomBoxes(300000, 2);
-  std::vector<Vec3> cents;
-  for (auto& b : boxes) cents.push_back(b.center());
-  Bvh bvh;
-  bvh.build(boxes, cents);
-  checkInvariants(bvh, boxes);
+BvhBuildOptions withQuality(BvhBuildQuality q, int threads = 0) {
+  BvhBuildOptions opt;
+  opt.quality = q;
+  opt.threads = threads;
+  return opt;
 }
 
-TEST(Bvh, CoincidentCentroidsStillSplit) {
-  std::vector<Bounds3> boxes(1000, Bounds3{Vec3(0), Vec3(1)});
-  std::vector<Vec3> cents(1000, Vec3(0.5));
-  Bvh bvh;
-  bvh.build(boxes, cents);
-  checkInvariants(bvh, boxes);
+/// Expected cost of a random ray through the tree (surface-area heuristic: node visit 1, primitive test 1).
+double sahCost(const Bvh& bvh) {
+  double cost = 1.0;
+  const double rootArea = bvh.bounds().halfArea();
+  for (const BvhWideNode& n : bvh.nodes())
+    for (int c = 0; c < 4; ++c) {
+      if (n.count[c] == BvhWideNode::kEmpty) continue;
+      Bounds3 b{Vec3(n.b[0][c], n.b[1][c], n.b[2][c]), Vec3(n.b[3][c], n.b[4][c], n.b[5][c])};
+      cost += b.halfArea() / rootArea * (n.count[c] > 0 ? n.count[c] : 1.0);
+    }
+  return cost;
 }
 
-TEST(Bvh, ClosestHitMatchesBruteForce) {
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> U(-1, 1);
-  TriangleMesh m;
-  for (int i = 0; i < 2000; ++i) {
-    Vec3 c(U(rng) * 5, U(rng) * 5, U(rng) * 5);
-    uint32_t b = uint32_t(m.positions.size());
-    m.positions.push_back(c);
-    m.positions.push_back(c + Vec3(U(rng), U(rng), U(rng)) * 0.5);
-    m.positions.push_back(c + Vec3(U(rng), U(rng), U(rng)) * 0.5);
-    m.triangles.push_back({b, b + 1, b + 2});
+bool sameTree(const Bvh& a, const Bvh& b) {
+  return a.nodes().size() == b.nodes().size() && a.primIndices() == b.primIndices() &&
+         std::memcmp(a.nodes().data(), b.nodes().data(), a.nodes().size() * sizeof(BvhWideNode)) == 0;
+}
+
+class BvhQuality : public testing::TestWithParam<BvhBuildQuality> {};
+
+/// Random triangles (in a cube of edge 10) and their boxes.
+struct Triangles {
+  TriangleMesh mesh;  // triangle i: vertices 3i, 3i+1, 3i+2
+  std::vector<Bounds3> boxes;
+  Triangles(int n, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> U(-1, 1);
+    for (int i = 0; i < n; ++i) {
+      Vec3 c(U(rng) * 5, U(rng) * 5, U(rng) * 5);
+      for (int k = 0; k < 3; ++k) mesh.positions.push_back(k == 0 ? c : c + Vec3(U(rng), U(rng), U(rng)) * 0.5);
+      mesh.triangles.push_back({3 * i, 3 * i + 1, 3 * i + 2});
+    }
+    updateBoxes();
   }
-  Scene scene;
-  TriangleMesh copy = m;
-  scene.addInstance(scene.addMesh(std::move(copy)), Mat4(1.0), scene.addMaterial(Material{}));
-  scene.commit();
-  int hits = 0;
-  for (int k = 0; k < 2000; ++k) {
-    Ray r;
-    r.origin = Vec3(U(rng), U(rng), U(rng)) * 8.0;
-    r.dir = glm::normalize(Vec3(U(rng), U(rng), U(rng)));
+  void updateBoxes() {
+    boxes.assign(mesh.triangles.size(), Bounds3());
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) boxes[i / 3].extend(mesh.positions[i]);
+  }
+  std::optional<PrimHit> intersect(const Ray& r, uint32_t i) const {
+    return intersectTriangle(r, mesh.positions[3 * i], mesh.positions[3 * i + 1], mesh.positions[3 * i + 2]);
+  }
+  /// Closest hit distance over all triangles (infinity for none); prim: the lowest index at that distance.
+  double bruteForce(const Ray& r, uint32_t& prim) const {
     double best = kInfinity;
-    uint32_t bestPrim = 0;
-    for (uint32_t i = 0; i < m.triangles.size(); ++i) {
-      auto& t = m.triangles[i];
-      auto h = intersectTriangle(r, m.positions[t.x], m.positions[t.y], m.positions[t.z]);
+    for (uint32_t i = 0; i < boxes.size(); ++i) {
+      auto h = intersect(r, i);
       if (h && h->t < best) {
         best = h->t;
-        bestPrim = i;
+        prim = i;
       }
     }
+    return best;
+  }
+};
+
+Ray randomRay(std::mt19937& rng) {
+  std::uniform_real_distribution<double> U(-1, 1);
+  Ray r;
+  r.origin = Vec3(U(rng), U(rng), U(rng)) * 8.0;
+  r.dir = glm::normalize(Vec3(U(rng), U(rng), U(rng)));
+  return r;
+}
+
+/// Closest hits through the tree equal brute force over every triangle (same t, same triangle) for random rays.
+void expectClosestHitsMatch(const Bvh& bvh, const Triangles& tris, unsigned seed) {
+  std::mt19937 rng(seed);
+  int hits = 0;
+  for (int k = 0; k < 1000; ++k) {
+    const Ray r = randomRay(rng);
+    uint32_t bestPrim = 0;
+    const double best = tris.bruteForce(r, bestPrim);
+    double tMax = r.tMax;
+    uint32_t prim = 0;
+    bool found = bvh.traverse<false>(r, tMax, [&](uint32_t first, uint32_t count, double& t) {
+      bool any = false;
+      for (uint32_t i = first; i < first + count; ++i) {
+        const uint32_t p = bvh.primIndices()[i];
+        auto h = tris.intersect(r, p);
+        if (h && (h->t < t || (h->t == t && p < prim))) {  // ties: the lower index, as the brute force
+          t = h->t;
+          prim = p;
+          any = true;
+        }
+      }
+      return any;
+    });
+    ASSERT_EQ(found, std::isfinite(best)) << "ray " << k;
+    if (found) {
+      ++hits;
+      EXPECT_EQ(tMax, best);
+      EXPECT_EQ(prim, bestPrim);
+    }
+  }
+  EXPECT_GT(hits, 100);
+}
+
+}  // namespace
+
+TEST_P(BvhQuality, NodesContainChildrenAndEveryPrimitiveOnce) {
+  auto boxes = randomBoxes(5000, 1);
+  Bvh bvh;
+  bvh.build(boxes, centers(boxes), withQuality(GetParam()));
+  checkInvariants(bvh, boxes);
+}
+
+TEST_P(BvhQuality, CoincidentCentroidsStillSplit) {
+  for (int n : {1000, 70000}) {  // sequential and chunked passes
+    std::vector<Bounds3> boxes(n, Bounds3{Vec3(0), Vec3(1)});
+    std::vector<Vec3> cents(n, Vec3(0.5));
+    Bvh bvh;
+    bvh.build(boxes, cents, withQuality(GetParam()));
+    checkInvariants(bvh, boxes);
+  }
+}
+
+TEST_P(BvhQuality, ClosestHitsMatchBruteForce) {
+  Triangles tris(3000, 4);
+  Bvh bvh;
+  bvh.build(tris.boxes, centers(tris.boxes), withQuality(GetParam()));
+  expectClosestHitsMatch(bvh, tris, 5);
+}
+
+// Points move, topology stays: after refit the boxes contain the moved primitives and hits are still exact.
+TEST_P(BvhQuality, RefitFollowsMovedPrimitives) {
+  Triangles tris(3000, 6);
+  Bvh bvh;
+  bvh.build(tris.boxes, centers(tris.boxes), withQuality(GetParam()));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (Vec3& p : tris.mesh.positions) p += Vec3(U(rng), U(rng), U(rng)) * 0.8;  // larger than the triangles themselves
+  tris.updateBoxes();
+  const std::vector<uint32_t> order = bvh.primIndices();
+  bvh.refit(tris.boxes);
+  EXPECT_EQ(bvh.primIndices(), order);
+  checkInvariants(bvh, tris.boxes);
+  Bounds3 all;
+  for (const Bounds3& b : tris.boxes) all.extend(b);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_LE(bvh.bounds().lo[a], all.lo[a]);
+    EXPECT_GE(bvh.bounds().hi[a], all.hi[a]);
+  }
+  expectClosestHitsMatch(bvh, tris, 8);
+}
+
+// Refit on the build's own boxes reproduces the built boxes bit for bit (same outward rounding).
+TEST_P(BvhQuality, RefitOnSameBoxesChangesNothing) {
+  auto boxes = randomBoxes(50000, 9);
+  Bvh built, refitted;
+  built.build(boxes, centers(boxes), withQuality(GetParam()));
+  refitted = built;
+  refitted.refit(boxes);
+  EXPECT_TRUE(sameTree(built, refitted));
+  EXPECT_THROW(refitted.refit(std::vector<Bounds3>(boxes.begin(), boxes.end() - 1)), std::invalid_argument);
+}
+
+INSTANTIATE_TEST_SUITE_P(Bvh, BvhQuality, testing::Values(BvhBuildQuality::Sah, BvhBuildQuality::Fast),
+                         [](const testing::TestParamInfo<BvhBuildQuality>& i) {
+                           return i.param == BvhBuildQuality::Sah ? "Sah" : "Fast";
+                         });
+
+// Above 32768 primitives large nodes bin and partition in parallel chunks and subtrees are built as tasks on a
+// thread pool (the ThreadSanitizer suite runs this test). The tree is a function of the input only: the same nodes
+// and primitive order on 1, 2 and 3 threads.
+TEST(Bvh, ParallelBuildKeepsInvariantsAndIsDeterministic) {
+  auto boxes = randomBoxes(200000, 2);
+  const auto cents = centers(boxes);
+  for (BvhBuildQuality q : {BvhBuildQuality::Sah, BvhBuildQuality::Fast}) {
+    Bvh one, two, three;
+    one.build(boxes, cents, withQuality(q, 1));
+    two.build(boxes, cents, withQuality(q, 2));
+    three.build(boxes, cents, withQuality(q, 3));
+    checkInvariants(two, boxes);
+    EXPECT_TRUE(sameTree(one, two));
+    EXPECT_TRUE(sameTree(one, three));
+    // Refit on more threads than one, too
+    for (Bounds3& b : boxes) b.hi += Vec3(0.05);
+    two.refit(boxes);
+    checkInvariants(two, boxes);
+  }
+}
+
+// Single-primitive leaves need more wide nodes per primitive than a subtree reserves up front (its nodes then move
+// to storage of their own): the tree stays whole and the same on 1 and 2 threads.
+TEST(Bvh, ParallelBuildOfSinglePrimitiveLeaves) {
+  auto boxes = randomBoxes(100000, 11);
+  const auto cents = centers(boxes);
+  for (BvhBuildQuality q : {BvhBuildQuality::Sah, BvhBuildQuality::Fast}) {
+    BvhBuildOptions opt = withQuality(q, 1);
+    opt.maxLeafSize = 1;
+    opt.traversalCost = 0.01;
+    Bvh one, two;
+    one.build(boxes, cents, opt);
+    opt.threads = 2;
+    two.build(boxes, cents, opt);
+    EXPECT_GT(two.nodes().size(), boxes.size() / 3);
+    checkInvariants(two, boxes);
+    EXPECT_TRUE(sameTree(one, two));
+  }
+}
+
+// The SAH build is the better tree: lower expected cost than the Morton build of the same boxes.
+TEST(Bvh, SahBuildBeatsFastBuildOnSahCost) {
+  auto boxes = randomBoxes(100000, 10);
+  const auto cents = centers(boxes);
+  Bvh sah, fast;
+  sah.build(boxes, cents, withQuality(BvhBuildQuality::Sah));
+  fast.build(boxes, cents, withQuality(BvhBuildQuality::Fast));
+  EXPECT_LT(sahCost(sah), 0.95 * sahCost(fast));
+}
+
+// Through the scene (two levels, leaf-ordered triangle copies) as well as through the bare tree.
+TEST(Bvh, ClosestHitMatchesBruteForce) {
+  Triangles tris(2000, 3);
+  Scene scene;
+  scene.addInstance(scene.addMesh(TriangleMesh(tris.mesh)), Mat4(1.0), scene.addMaterial(Material{}));
+  scene.commit();
+  std::mt19937 rng(4);
+  int hits = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const Ray r = randomRay(rng);
+    uint32_t bestPrim = 0;
+    const double best = tris.bruteForce(r, bestPrim);
     Hit h;
     bool found = scene.intersect(r, h);
     ASSERT_EQ(found, std::isfinite(best));
@@ -160,13 +362,7 @@ TEST(Bvh, TinyTreesVisitWhatBruteForceHits) {
       r.dir = glm::normalize(Vec3(U(rng), U(rng), U(rng)));
       std::vector<int> expected(boxes.size(), 0), got(boxes.size(), 0);
       for (std::size_t p = 0; p < boxes.size(); ++p) {
-        BvhNode leaf{};
-        for (int a = 0; a < 3; ++a) {
-          leaf.lo[a] = float(boxes[p].lo[a]);
-          leaf.hi[a] = float(boxes[p].hi[a]);
-        }
-        double t;
-        expected[p] = Bvh::slab(leaf, RayTraversal(r), r.tMin, r.tMax, t) ? 1 : 0;
+        expected[p] = exactSlab(boxes[p], r) ? 1 : 0;
       }
       double tMax = r.tMax;
       bvh.traverse<false>(r, tMax, [&](uint32_t first, uint32_t count, double&) {
@@ -181,3 +377,126 @@ TEST(Bvh, TinyTreesVisitWhatBruteForceHits) {
     }
   }
 }
+
+namespace {
+
+// The single-precision box test never loses a box the exact (long double) slab test enters: boxes of size 1e-6
+// to 1e3 at offsets 0 to 1e7, rays with direction magnitudes 1e-200 to 1e200, near-parallel slopes (down to 1e-40
+// and exact zeros), and origins placed exactly on box faces. Every ray is aimed at one box's interior or at one of
+// its face planes, so most of these rays graze.
+TEST(Bvh, FloatBoxTestIsConservativeForDoubleRays) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-1, 1), U01(0, 1);
+  const double scales[] = {1e-6, 1e-2, 1e3}, offsets[] = {0.0, 1e3, 1e7};
+  const double dirMags[] = {1e-200, 1.0, 1e200};
+  long entered = 0, rays = 0;
+  for (double scale : scales)
+    for (double offset : offsets) {
+      std::vector<Bounds3> boxes;
+      for (int i = 0; i < 300; ++i) {
+        Vec3 c = Vec3(offset) + scale * 20.0 * Vec3(U(rng), U(rng), U(rng));
+        Vec3 h = scale * Vec3(U01(rng), U01(rng), U01(rng)) + Vec3(scale * 1e-3);
+        boxes.push_back(Bounds3{c - h, c + h});
+      }
+      std::vector<Vec3> cents;
+      for (auto& b : boxes) cents.push_back(b.center());
+      Bvh bvh;
+      BvhBuildOptions opt;
+      opt.maxLeafSize = 1;
+      opt.traversalCost = 0.01;
+      bvh.build(boxes, cents, opt);
+      for (int k = 0; k < 3000; ++k) {
+        const Bounds3& target = boxes[std::size_t(k) % boxes.size()];
+        Vec3 aim = target.lo + (target.hi - target.lo) * Vec3(U01(rng), U01(rng), U01(rng));
+        if (k % 3 == 1) aim[k % 3] = (k & 8) ? target.lo[k % 3] : target.hi[k % 3];  // on a face plane
+        Vec3 d = glm::normalize(Vec3(U(rng), U(rng), U(rng)));
+        if (k % 5 == 0) d[(k / 5) % 3] = (k & 16) ? 0.0 : 1e-40 * U(rng);  // (nearly) parallel to an axis plane
+        d *= dirMags[std::size_t(k) % 3];
+        Ray r;
+        const double back = scale * (k % 7 == 0 ? 1e4 : 30.0);  // also from far away
+        r.origin = aim - (back / glm::length(d / dirMags[std::size_t(k) % 3])) * d / dirMags[std::size_t(k) % 3];
+        if (k % 11 == 0) r.origin = aim;  // origin on the face plane / inside the box
+        r.dir = d;
+        if (!isFinite(r.origin) || !isFinite(r.dir)) continue;
+        std::vector<int> got(boxes.size(), 0);
+        double tMax = r.tMax;
+        bvh.traverse<false>(r, tMax, [&](uint32_t first, uint32_t count, double&) {
+          for (uint32_t i = first; i < first + count; ++i) ++got[bvh.primIndices()[i]];
+          return false;
+        });
+        ++rays;
+        for (std::size_t p = 0; p < boxes.size(); ++p)
+          if (exactSlab(boxes[p], r)) {
+            ++entered;
+            ASSERT_EQ(got[p], 1) << "scale " << scale << " offset " << offset << " ray " << k << " box " << p;
+          }
+      }
+    }
+  std::printf("[bvh] float box test: %ld rays, %ld exact box entries, none lost\n", rays, entered);
+  EXPECT_GT(entered, rays);  // the aimed-at box at least, for most rays
+}
+
+// The stored float boxes themselves (leaf children), touched exactly: rays aimed at a corner or an edge of a leaf's
+// single-precision box (its exact value b + anchor, in long double), from near and far, at every scale and offset.
+// Half of these rays only touch the box, so any rounding toward the inside (origin, reciprocal, subtraction,
+// product) loses some.
+TEST(Bvh, FloatBoxTestKeepsRaysTouchingTheStoredBox) {
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> U(-1, 1), U01(0, 1);
+  long touching = 0;
+  for (double scale : {1e-6, 1.0, 1e4})
+    for (double offset : {0.0, 3e2, 1e7}) {
+      std::vector<Bounds3> boxes;
+      for (int i = 0; i < 64; ++i) {
+        Vec3 c = Vec3(offset) + scale * 10.0 * Vec3(U(rng), U(rng), U(rng));
+        boxes.push_back(Bounds3{c - Vec3(scale * 0.3), c + Vec3(scale * 0.3)});
+      }
+      std::vector<Vec3> cents;
+      for (auto& b : boxes) cents.push_back(b.center());
+      Bvh bvh;
+      BvhBuildOptions opt;
+      opt.maxLeafSize = 1;
+      opt.traversalCost = 0.01;
+      bvh.build(boxes, cents, opt);
+      for (const BvhWideNode& n : bvh.nodes())
+        for (int c = 0; c < 4; ++c) {
+          if (n.count[c] == 0 || n.count[c] == BvhWideNode::kEmpty) continue;
+          const uint32_t prim = bvh.primIndices()[n.first[c]];
+          long double lo[3], hi[3];
+          for (int a = 0; a < 3; ++a) {
+            lo[a] = (long double)n.b[a][c] + bvh.anchor()[a];
+            hi[a] = (long double)n.b[3 + a][c] + bvh.anchor()[a];
+          }
+          for (int k = 0; k < 60; ++k) {
+            // A corner (k even) or a point on an edge, approached from a random direction
+            long double aim[3];
+            for (int a = 0; a < 3; ++a) aim[a] = (rng() & 1) ? lo[a] : hi[a];
+            if (k & 1) aim[k % 3] = lo[k % 3] + (hi[k % 3] - lo[k % 3]) * U01(rng);
+            Vec3 d = glm::normalize(Vec3(U(rng), U(rng), U(rng))) * (k % 3 == 0 ? 1e-100 : 1.0);
+            const long double back = scale * ((k % 4 == 0) ? 1e5 : 2.0) / glm::length(d);
+            Ray r;
+            for (int a = 0; a < 3; ++a) r.origin[a] = double(aim[a] - back * d[a]);
+            r.dir = d;
+            if (k % 5 == 4) {
+              // From the anchor itself (the origin rounds exactly): only the reciprocal's and the products'
+              // rounding can lose these
+              r.origin = bvh.anchor();
+              for (int a = 0; a < 3; ++a) r.dir[a] = double(aim[a] - r.origin[a]);
+            }
+            if (!exactSlab(lo, hi, r)) continue;
+            ++touching;
+            bool seen = false;
+            double tMax = r.tMax;
+            bvh.traverse<false>(r, tMax, [&](uint32_t first, uint32_t count, double&) {
+              for (uint32_t i = first; i < first + count; ++i) seen |= bvh.primIndices()[i] == prim;
+              return false;
+            });
+            ASSERT_TRUE(seen) << "scale " << scale << " offset " << offset << " ray " << k;
+          }
+        }
+    }
+  std::printf("[bvh] %ld rays touching stored float boxes, all entered\n", touching);
+  EXPECT_GT(touching, 5000);
+}
+
+}  // namespace

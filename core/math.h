@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <initializer_list>
 #include <limits>
 
@@ -45,6 +46,32 @@ inline bool isFinite(const Vec3f& v) {
 constexpr double gammaBound(int n) {
   constexpr double eps = std::numeric_limits<double>::epsilon() * 0.5;
   return (n * eps) / (1.0 - n * eps);
+}
+
+/// The next float toward +inf / -inf (IEEE nextafter without the libm call: this runs per ray in traversal setup).
+/// NaN and the infinity in the direction of the step are returned unchanged.
+inline float nextFloatUp(float f) {
+  if (!(f < std::numeric_limits<float>::infinity())) return f;  // NaN, +inf
+  if (f == 0.0f) return std::numeric_limits<float>::denorm_min();
+  uint32_t u;
+  std::memcpy(&u, &f, sizeof u);
+  u = f > 0.0f ? u + 1 : u - 1;
+  std::memcpy(&f, &u, sizeof u);
+  return f;
+}
+inline float nextFloatDown(float f) {
+  return -nextFloatUp(-f);
+}
+/// The largest float strictly below x / the smallest float strictly above x (conservative bounds of a double that
+/// may itself carry one rounding: a float strictly below a double is at least one double ulp below it). Doubles
+/// beyond float range give +-FLT_MAX or +-inf on the conservative side.
+inline float floatBelow(double x) {
+  const float f = static_cast<float>(x);
+  return double(f) < x ? f : nextFloatDown(f);
+}
+inline float floatAbove(double x) {
+  const float f = static_cast<float>(x);
+  return double(f) > x ? f : nextFloatUp(f);
 }
 
 /// A ray: origin + t * dir for t in [tMin, tMax]. dir need not be normalised.

@@ -580,9 +580,7 @@ bool Scene::intersectObject(const Object& o, uint32_t instance, const Ray& ray, 
 bool Scene::intersect(const Ray& ray, Hit& hit, uint64_t* nodes) const {
   hit = Hit{};
   double tMax = ray.tMax;
-  bool found = top_.traverse<false>(
-      ray, tMax,
-      [&](uint32_t first, uint32_t count, double& tm) {
+  auto instancesInLeaf = [&](uint32_t first, uint32_t count, double& tm) {
         bool any = false;
         for (uint32_t s = first; s < first + count; ++s) {
           uint32_t id = topInstances_[s];
@@ -596,18 +594,17 @@ bool Scene::intersect(const Ray& ray, Hit& hit, uint64_t* nodes) const {
           if (intersectObject(objects_[in.object], id, r, tm, hit, nodes)) any = true;
         }
         return any;
-      },
-      nodes);
-  return found;
+  };
+  // A single instance needs no top level (its object's root node tests the same box)
+  if (topInstances_.size() == 1) return instancesInLeaf(0, 1, tMax);
+  return top_.traverse<false>(ray, tMax, instancesInLeaf, nodes);
 }
 
 Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes) const {
   Color atten(1.0f);
   CountedCrossings counted;
   double tMax = ray.tMax;
-  bool blocked = top_.traverse<true>(
-      ray, tMax,
-      [&](uint32_t first, uint32_t count, double&) {
+  auto instancesInLeaf = [&](uint32_t first, uint32_t count, double&) {
         for (uint32_t s = first; s < first + count; ++s) {
           const Instance& in = instances_[topInstances_[s]];
           const Object& o = objects_[in.object];
@@ -648,8 +645,9 @@ Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes) const 
           if (stop) return true;
         }
         return false;
-      },
-      nodes);
+  };
+  const bool blocked = topInstances_.size() == 1 ? instancesInLeaf(0, 1, tMax)
+                                                 : top_.traverse<true>(ray, tMax, instancesInLeaf, nodes);
   return blocked ? Color(0.0f) : atten;
 }
 

@@ -13,6 +13,7 @@
 #include <type_traits>
 #include <vector>
 
+#include <sched.h>
 #include <sys/resource.h>
 #include <time.h>
 
@@ -123,6 +124,35 @@ double parallelFor(std::size_t n, int threads, Fn&& fn, double* cpuSeconds = nul
   }
   return wall;
 }
+
+/// Restricts the calling thread, and every thread it starts while the object lives, to the first n CPUs it may
+/// run on (Linux affinity; threads inherit their creator's mask); restores the mask on destruction. The
+/// benchmark uses it to run code that picks its own thread count (our BVH builder) on n cores, for comparisons
+/// at equal thread counts. n <= 0 or n >= the usable CPUs: no change.
+class CpuLimit {
+ public:
+  explicit CpuLimit(int n) {
+    CPU_ZERO(&saved_);
+    if (n <= 0 || sched_getaffinity(0, sizeof saved_, &saved_) != 0 || n >= CPU_COUNT(&saved_)) return;
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    for (int c = 0, k = 0; c < CPU_SETSIZE && k < n; ++c)
+      if (CPU_ISSET(c, &saved_)) {
+        CPU_SET(c, &set);
+        ++k;
+      }
+    active_ = sched_setaffinity(0, sizeof set, &set) == 0;
+  }
+  ~CpuLimit() {
+    if (active_) sched_setaffinity(0, sizeof saved_, &saved_);
+  }
+  CpuLimit(const CpuLimit&) = delete;
+  CpuLimit& operator=(const CpuLimit&) = delete;
+
+ private:
+  cpu_set_t saved_;
+  bool active_ = false;
+};
 
 /// "--key value" and "--flag" arguments after the sub-command.
 class Args {

@@ -37,10 +37,12 @@ bool EmbreeDevice::monitor(void* self, ssize_t bytes, bool) {
   return true;
 }
 
-EmbreeScene::EmbreeScene(EmbreeDevice& device, const Scene& scene, RTCBuildQuality quality) : device_(device) {
+EmbreeScene::EmbreeScene(EmbreeDevice& device, const Scene& scene, RTCBuildQuality quality, RTCSceneFlags flags)
+    : device_(device) {
   long long before = device.bytes();
   scene_ = rtcNewScene(device.get());
   rtcSetSceneBuildQuality(scene_, quality);
+  rtcSetSceneFlags(scene_, flags);
   for (uint32_t i = 0; i < scene.instanceCount(); ++i) {
     uint32_t o = scene.instanceObject(i);
     RTCGeometry g = nullptr;

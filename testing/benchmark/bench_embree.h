@@ -36,10 +36,12 @@ class EmbreeDevice {
 };
 
 /// Embree scene built from the visible instances of a committed whitted::Scene (identity transforms assumed, as
-/// in all benchmark scenes; others are baked into the vertices).
+/// in all benchmark scenes). flags: RTC_SCENE_FLAG_ROBUST selects Embree's robust mode (conservative box tests,
+/// watertight triangles: the like-for-like anchor of our exact traversal).
 class EmbreeScene {
  public:
-  EmbreeScene(EmbreeDevice& device, const Scene& scene, RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM);
+  EmbreeScene(EmbreeDevice& device, const Scene& scene, RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM,
+              RTCSceneFlags flags = RTC_SCENE_FLAG_NONE);
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;

@@ -71,7 +71,8 @@ void buildIsosurface(const TriangleMesh& meshIn, BenchScene& out) {
   key.focalPoint = b.center();
   key.coneAngle = 180.0;
   out.scene.lights().push_back(key);
-  // Fill light from the camera (like VTK's headlight, dimmer), casting no shadows
+  // Fill light from the camera (VTK's headlight, dimmer), casting no shadows
+  out.headlight = int(out.scene.lights().size());
   Light fill;
   fill.positional = false;
   fill.position = out.camera.eye;

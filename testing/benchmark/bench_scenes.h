@@ -27,6 +27,10 @@ struct BenchScene {
   std::string description;
   /// Material of the main actor (for the VTK script and descriptions).
   Material mainMaterial;
+  /// Index of the light that sits at the camera looking at the focal point (VTK's headlight), -1 if none. VTK
+  /// renderings of the scene make it a headlight: it then follows the camera and, in VTK's shadow-map pass, casts
+  /// no shadow map, as it casts no shadow here.
+  int headlight = -1;
 };
 
 /// Scene names in benchmark order.

@@ -1,7 +1,10 @@
 #include "image_metrics.h"
 
+#include <png.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 namespace whitted::bench {
@@ -86,10 +89,53 @@ ImageError compareImages(const FrameBuffer& img, const FrameBuffer& ref) {
   e.psnr = e.rmse > 1e-5 ? 20.0 * std::log10(1.0 / e.rmse) : 100.0;
   e.maxChannelRms = std::sqrt(mc2 / double(n));
   e.maxChannelMax = mcMax;
+  e.maxLevels = int(std::lround(255.0 * mcMax));
   double s = 0.0;
   for (int c = 0; c < 3; ++c) s += ssimChannel(ca[c], cb[c], img.width, img.height);
   e.ssim = s / 3.0;
   return e;
+}
+
+bool readPng(const std::string& path, FrameBuffer& fb, std::string& error) {
+  // libpng's low-level API: stored sample values as they are (the simplified API would apply the file's gAMA
+  // chunk, and POV-Ray marks its linear output with gamma 1.0)
+  FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) {
+    error = "cannot open " + path;
+    return false;
+  }
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  std::vector<uint8_t> rgba;
+  std::vector<png_bytep> rowPointers;
+  if (!info || setjmp(png_jmpbuf(png))) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    std::fclose(f);
+    error = path + " is not a readable PNG file";
+    return false;
+  }
+  png_init_io(png, f);
+  png_read_info(png, info);
+  // Any colour type and depth to 8-bit RGBA
+  png_set_expand(png);
+  png_set_strip_16(png);
+  png_set_gray_to_rgb(png);
+  png_set_add_alpha(png, 0xff, PNG_FILLER_AFTER);
+  png_set_interlace_handling(png);
+  png_read_update_info(png, info);
+  const int w = int(png_get_image_width(png, info)), h = int(png_get_image_height(png, info));
+  rgba.resize(std::size_t(w) * h * 4);
+  for (int y = 0; y < h; ++y) rowPointers.push_back(&rgba[std::size_t(y) * w * 4]);
+  png_read_image(png, rowPointers.data());
+  png_destroy_read_struct(&png, &info, nullptr);
+  std::fclose(f);
+  fb.resize(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const uint8_t* p = &rgba[(std::size_t(h - 1 - y) * w + x) * 4];  // PNG rows are top to bottom
+      fb.color[std::size_t(y) * w + x] = Color4(p[0], p[1], p[2], p[3]) / 255.0f;
+    }
+  return true;
 }
 
 }  // namespace whitted::bench

@@ -1,7 +1,11 @@
 // Error of an image against a reference, on linear RGB clamped to [0,1] (what an 8-bit framebuffer can show).
+// The benchmark's one image-difference helper: the error sweep compares frame buffers in memory, the POV-Ray
+// comparison compares PNG files through `whitted_bench diff`.
 #pragma once
 
 #include "renderer.h"
+
+#include <string>
 
 namespace whitted::bench {
 
@@ -14,9 +18,14 @@ struct ImageError {
   /// out by the depth cap and the contribution threshold.
   double maxChannelRms = 0.0;
   double maxChannelMax = 0.0;
+  int maxLevels = 0;  ///< Largest channel difference in 8-bit levels (round(255 x maxChannelMax)).
 };
 
 /// Errors of img against ref (same size).
 ImageError compareImages(const FrameBuffer& img, const FrameBuffer& ref);
+
+/// Reads an 8-bit PNG (any colour type libpng converts to RGBA) into fb.color as values / 255, rows bottom to
+/// top like a rendered frame. Returns false with a message on failure.
+bool readPng(const std::string& path, FrameBuffer& fb, std::string& error);
 
 }  // namespace whitted::bench

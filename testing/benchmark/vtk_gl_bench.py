@@ -8,11 +8,16 @@ Run it under Xvfb (Debian's VTK has no EGL/OSMesa; without a display VTK aborts)
         --mesh wavelet_1m.whtmesh --info iso1m.json --size 1024x1024 --mode opengl --msaa 0 --csv vtk.csv
 
 --info is the JSON written by `whitted_bench info --scene iso1m` (camera, lights, material, background), so VTK
-renders exactly the scene whitted_bench traces. Modes:
+renders exactly the scene whitted_bench traces. Lights: the scene's headlight (the fill light at the camera)
+becomes a VTK headlight, the others scene lights; a light that casts no shadow in whitted_bench gets
+ShadowAttenuation 0, so vtkWhittedPass (shadow rays toward lights with ShadowAttenuation > 0) and
+vtkShadowMapPass (no shadow map for headlights, maps weighted by ShadowAttenuation) shadow exactly the lights
+whitted_bench shadows. Modes:
   opengl     VTK's default pipeline (no shadows), --msaa 0 or 8 (VTK's default multisampling)
   shadowmap  VTK's vtkShadowMapPass (OpenGL shadow maps), closest OpenGL equivalent of a frame with shadows
-  whitted    vtkWhittedPass (`from whitted import vtkWhittedPass`); writes a row with status 'unavailable: ...'
-             and exits 0 while the module is not built or not on PYTHONPATH
+  whitted    vtkWhittedPass (`from whitted import vtkWhittedPass`) with --spp samples per pixel, depth 5,
+             threshold 1/255, shadows; writes a row with status 'unavailable: ...' and exits 0 while the module
+             is not built or not on PYTHONPATH
 
 Timing: the first frame (shader compilation, upload; for Whitted scene conversion and BVH build) is reported
 separately; then --warmup untimed and --reps timed frames, each after a 0.5 degree camera azimuth (so nothing can
@@ -30,8 +35,9 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from gen_wavelet import read_whtmesh  # noqa: E402
 
-FIELDS = ["mode", "msaa", "width", "height", "triangles", "status", "first_frame_seconds", "seconds_median",
-          "seconds_min", "seconds_max", "runs", "gl_renderer", "screenshot", "breakdown", "cpu_seconds_median"]
+FIELDS = ["mode", "msaa", "spp", "width", "height", "triangles", "status", "first_frame_seconds", "seconds_median",
+          "seconds_min", "seconds_max", "runs", "gl_renderer", "screenshot", "breakdown", "cpu_seconds_median",
+          "first_frame_cpu_seconds"]
 PHASES = ["Conversion", "Build", "Trace", "Composite"]  # vtkWhittedPass::GetLast<Phase>Time()
 
 
@@ -91,13 +97,15 @@ def main():
     ap.add_argument("--size", default="1024x1024")
     ap.add_argument("--mode", choices=["opengl", "shadowmap", "whitted"], default="opengl")
     ap.add_argument("--msaa", type=int, default=0)
+    ap.add_argument("--spp", type=int, default=1, help="samples per pixel of vtkWhittedPass (mode whitted)")
     ap.add_argument("--reps", type=int, default=10)
     ap.add_argument("--warmup", type=int, default=2)
     ap.add_argument("--csv", required=True)
     ap.add_argument("--png", default="", help="screenshot of the last frame")
     args = ap.parse_args()
     w, h = (int(v) for v in args.size.lower().split("x"))
-    row = {"mode": args.mode, "msaa": args.msaa, "width": w, "height": h}
+    row = {"mode": args.mode, "msaa": args.msaa, "spp": args.spp if args.mode == "whitted" else 1, "width": w,
+           "height": h}
 
     whitted_pass = None
     if args.mode == "whitted":
@@ -109,12 +117,11 @@ def main():
             print("vtkWhittedPass not importable (%s); row marked unavailable" % e)
             return 0
         whitted_pass = vtkWhittedPass()
-        # Hook for the pass's settings: defaults are the benchmark's defaults (spp 1, depth 5, threshold 1/255,
-        # shadows on); set them explicitly when the setters exist so the comparison stays like for like
-        for name, value in (("SetSamplesPerPixel", 1), ("SetMaxDepth", 5), ("SetShadows", 1),
-                            ("SetContributionThreshold", 1.0 / 255.0)):
-            if hasattr(whitted_pass, name):
-                getattr(whitted_pass, name)(value)
+        # whitted_bench frame's settings, explicitly (like for like with the core's rows)
+        whitted_pass.SetSamplesPerPixel(args.spp)
+        whitted_pass.SetMaxDepth(5)
+        whitted_pass.SetShadows(True)
+        whitted_pass.SetContributionThreshold(1.0 / 255.0)
 
     from vtkmodules.vtkRenderingCore import vtkActor, vtkLight, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow
     import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 - registers the OpenGL factory overrides
@@ -143,7 +150,11 @@ def main():
     ren.SetBackground(*info["background"])
     for L in info["lights"]:
         light = vtkLight()
-        light.SetLightTypeToSceneLight()
+        if L["headlight"]:
+            light.SetLightTypeToHeadlight()  # follows the camera; VTK updates its position every frame
+        else:
+            light.SetLightTypeToSceneLight()
+        light.SetShadowAttenuation(1.0 if L["castShadows"] else 0.0)
         light.SetPositional(bool(L["positional"]))
         light.SetPosition(*L["position"])
         light.SetFocalPoint(*L["focalPoint"])
@@ -179,10 +190,11 @@ def main():
     win.SetMultiSamples(args.msaa)
     win.AddRenderer(ren)
 
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     win.Render()
     win.WaitForCompletion()
     row["first_frame_seconds"] = time.perf_counter() - t0
+    row["first_frame_cpu_seconds"] = time.process_time() - c0
     row["gl_renderer"] = gl_renderer_name(win).replace(",", ";")
     first_phases = phases(whitted_pass) if whitted_pass is not None else {}
 
@@ -224,8 +236,8 @@ def main():
         wr.Write()
         row["screenshot"] = os.path.basename(args.png)
     write_row(args.csv, row)
-    print("%s msaa %d %dx%d: first frame %.1f ms, median %.1f ms (min %.1f, %d runs) on %s %s" % (
-        args.mode, args.msaa, w, h, row["first_frame_seconds"] * 1e3, row["seconds_median"] * 1e3,
+    print("%s msaa %d spp %d %dx%d: first frame %.1f ms, median %.1f ms (min %.1f, %d runs) on %s %s" % (
+        args.mode, args.msaa, row["spp"], w, h, row["first_frame_seconds"] * 1e3, row["seconds_median"] * 1e3,
         row["seconds_min"] * 1e3, len(times), row["gl_renderer"], row.get("breakdown", "")))
     return 0
 

@@ -1,0 +1,60 @@
+#include "bench_commands.h"
+
+#include "image.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+
+namespace whitted::bench {
+
+bool loadScene(const Args& a, BenchScene& bs) {
+  std::string err;
+  if (!buildBenchScene(a.str("scene", "classic"), a.list("data", "."), bs, err)) {
+    std::fprintf(stderr, "whitted_bench: %s\n", err.c_str());
+    return false;
+  }
+  return true;
+}
+
+std::vector<int> threadList(const Args& a) {
+  std::vector<int> t;
+  for (const std::string& s : a.list("threads-list", "1,0")) {
+    int n = std::atoi(s.c_str());
+    t.push_back(n <= 0 ? hardwareThreads() : n);
+  }
+  std::sort(t.begin(), t.end());
+  t.erase(std::unique(t.begin(), t.end()), t.end());
+  return t;
+}
+
+RenderSettings settingsFrom(const Args& a) {
+  RenderSettings rs;
+  rs.samplesPerPixel = a.integer("spp", 1);
+  rs.adaptive = a.has("adaptive");
+  rs.integrator.maxDepth = a.integer("depth", 5);
+  rs.integrator.contributionThreshold = float(a.real("threshold", 1.0 / 255.0));
+  rs.integrator.shadows = !a.has("no-shadows");
+  return rs;
+}
+
+void setObjectFrom(Scene& scene, uint32_t object, const Scene& source) {
+  switch (source.objectType(object)) {
+    case GeometryType::Triangles:
+      scene.setMesh(object, TriangleMesh(source.mesh(object)));
+      break;
+    case GeometryType::Spheres:
+      scene.setSpheres(object, SphereSet(source.spheres(object)));
+      break;
+    case GeometryType::Capsules:
+      scene.setCapsules(object, CapsuleSet(source.capsules(object)));
+      break;
+  }
+}
+
+void savePng(const std::string& path, const FrameBuffer& fb) {
+  if (!path.empty() && !writePng(path, fb.width, fb.height, toRgba8(fb)))
+    std::fprintf(stderr, "cannot write %s\n", path.c_str());
+}
+
+}  // namespace whitted::bench

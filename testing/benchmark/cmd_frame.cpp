@@ -1,0 +1,96 @@
+// whitted_bench frame --scene NAME --sizes WxH,...: whole frames (trace time after the BVH build, median of
+// --reps runs after --warmup), at each thread count of --threads-list; --png FILE keeps the last image.
+// Render settings: --spp, --adaptive, --depth, --threshold, --no-shadows.
+#include "bench_commands.h"
+
+#include <cstdio>
+
+namespace whitted::bench {
+
+int cmdFrame(const Args& a) {
+  BenchScene bs;
+  if (!loadScene(a, bs)) return 2;
+  double t0 = now();
+  bs.scene.commit();
+  double commitSeconds = now() - t0;
+  RenderSettings rs = settingsFrom(a);
+  int reps = a.integer("reps", 5), warmup = a.integer("warmup", 1);
+  std::string tag = a.str("tag", "frame");
+  CsvWriter csv(a.str("csv"), {"tag",
+                               "scene",
+                               "width",
+                               "height",
+                               "spp",
+                               "adaptive",
+                               "depth",
+                               "threshold",
+                               "shadows",
+                               "threads",
+                               "commit_seconds",
+                               "seconds_median",
+                               "seconds_min",
+                               "seconds_max",
+                               "runs",
+                               "rays",
+                               "mrays",
+                               "error_estimate_rms",
+                               "primitives",
+                               "cpu_seconds_median",
+                               "pixels_supersampled"});
+  SceneStats st = bs.scene.stats();
+  std::size_t prims = st.triangles + st.spheres + st.capsules;
+  for (const std::string& sz : a.list("sizes", "800x600")) {
+    int w = 0, h = 0;
+    if (std::sscanf(sz.c_str(), "%dx%d", &w, &h) != 2) continue;
+    Camera cam = bs.camera.make(double(w) / h, bs.scene.bounds());
+    for (int threads : threadList(a)) {
+      rs.threads = threads;
+      FrameBuffer fb;
+      FrameStats fs;
+      std::vector<double> cpu;
+      Timing t = timeRepeated(warmup, reps, [&] {
+        double c0 = processCpuNow();
+        fs = render(bs.scene, cam, rs, w, h, fb);
+        cpu.push_back(processCpuNow() - c0);
+        return fs.secondsTrace;
+      });
+      cpu.erase(cpu.begin(), cpu.begin() + std::min<std::ptrdiff_t>(warmup, std::ptrdiff_t(cpu.size()) - 1));
+      Timing tc = summarize(cpu);
+      csv.row({tag,
+               bs.name,
+               fmt(w),
+               fmt(h),
+               fmt(rs.samplesPerPixel),
+               fmt(int(rs.adaptive)),
+               fmt(rs.integrator.maxDepth),
+               fmt(rs.integrator.contributionThreshold),
+               fmt(int(rs.integrator.shadows)),
+               fmt(threads),
+               fmt(commitSeconds),
+               fmt(t.median),
+               fmt(t.min),
+               fmt(t.max),
+               fmt(t.runs),
+               fmt(fs.rays.traced()),
+               fmt(fs.rays.traced() / t.median * 1e-6),
+               fmt(fs.errorEstimateRms),
+               fmt(prims),
+               fmt(tc.median),
+               fmt(fs.pixelsSupersampled)});
+      std::printf(
+          "%-10s %-12s %4dx%-4d %d thr: trace %9.2f ms (min %.2f, max %.2f), cpu %.2f ms, commit %.1f ms, "
+          "%.2f Mrays/s%s\n",
+          tag.c_str(), bs.name.c_str(), w, h, threads, t.median * 1e3, t.min * 1e3, t.max * 1e3, tc.median * 1e3,
+          commitSeconds * 1e3, fs.rays.traced() / t.median * 1e-6,
+          rs.adaptive
+              ? (", supersampled " + std::to_string(fs.pixelsSupersampled) + " of " + std::to_string(w * h) + " pixels")
+                    .c_str()
+              : "");
+      std::fflush(stdout);
+      if (a.has("png")) savePng(a.str("png"), fb);
+    }
+  }
+  return 0;
+}
+
+}  // namespace whitted::bench

@@ -1,0 +1,103 @@
+"""The Whitted Ray Trace view against ParaView's Render View in one pvbatch process (not part of ctest on its own;
+run by run_benchmark.py's paraview section):
+
+    xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" env PYTHONPATH=<pvprefix>/usr/lib/python3/dist-packages \
+        pvbatch pv_view_bench.py --plugin WhittedView.so --csv pv.csv [--extent 122] [--size 1024x768] \
+        [--still 5] [--changes 3] [--first whitted|render] [--rep 0]
+
+Both views with ParaView's defaults (light kit, background, orientation axes; the Whitted view traces shadows,
+depth 5, 1 sample per pixel, all cores), the same camera, showing the same Contour of a Wavelet over
+[-N, N]^3 at 157 (N = 122: 1,007,456 triangles) as a plain Surface. Before timing, each view renders a small
+sphere once (window, OpenGL context, shaders) that is then hidden, so "first frame" is what a user waits for when
+a new 1M-triangle result appears in an open view. Timed per view, as Render() wall time and the process CPU time
+during it (all threads: the tracer's and llvmpipe's):
+  first     the first frame of the contour (data delivery, upload or conversion + BVH build, draw or trace)
+  still     a frame after the camera turns 2 degrees (--still of them)
+  geometry  a frame after the contour value changes (--changes of them; the filter runs before, untimed, once
+            for both views)
+The views alternate frame by frame; --first says which one renders first (the driver alternates it between
+processes). One CSV row per timed frame.
+"""
+import argparse
+import csv
+import os
+import time
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--plugin", required=True)
+ap.add_argument("--csv", required=True)
+ap.add_argument("--extent", type=int, default=122)
+ap.add_argument("--size", default="1024x768")
+ap.add_argument("--still", type=int, default=5)
+ap.add_argument("--changes", type=int, default=3)
+ap.add_argument("--first", choices=["whitted", "render"], default="whitted")
+ap.add_argument("--rep", type=int, default=0)
+args = ap.parse_args()
+size = [int(v) for v in args.size.split("x")]
+
+from paraview.simple import (Contour, CreateView, Hide, LoadPlugin, Render, ResetCamera, Show,  # noqa: E402
+                             Sphere, Wavelet)
+
+LoadPlugin(args.plugin, remote=False, ns=globals())
+views = {"render": CreateView("RenderView"), "whitted": CreateView("WhittedRayTraceView")}
+order = [args.first] + [v for v in views if v != args.first]
+for v in views.values():
+    v.ViewSize = size
+
+# Window, context and shaders exist before anything is timed
+warm = Sphere()
+for name in order:
+    Show(warm, views[name])
+    Render(views[name])
+    Hide(warm, views[name])
+
+n = args.extent
+contour = Contour(Input=Wavelet(WholeExtent=[-n, n, -n, n, -n, n]), ContourBy=["POINTS", "RTData"],
+                  Isosurfaces=[157.0], ComputeScalars=0)
+contour.UpdatePipeline()  # the filter is not what is compared
+triangles = contour.GetDataInformation().GetNumberOfCells()
+for name in order:
+    Show(contour, views[name])
+ResetCamera(views["render"])
+cam = views["render"].GetActiveCamera()
+for v in views.values():
+    c = v.GetActiveCamera()
+    c.SetPosition(cam.GetPosition())
+    c.SetFocalPoint(cam.GetFocalPoint())
+    c.SetViewUp(cam.GetViewUp())
+    c.SetViewAngle(cam.GetViewAngle())
+
+rows = []
+
+
+def timed(name, event, index):
+    view = views[name]
+    t0, c0 = time.perf_counter(), time.process_time()
+    Render(view)
+    rows.append(dict(rep=args.rep, view=name, event=event, index=index, seconds=time.perf_counter() - t0,
+                     cpu_seconds=time.process_time() - c0, triangles=triangles, width=size[0], height=size[1],
+                     first=args.first, load=os.getloadavg()[0]))
+
+
+for name in order:
+    timed(name, "first", 0)
+for i in range(args.still):
+    for name in (order if i % 2 == 0 else order[::-1]):
+        views[name].GetActiveCamera().Azimuth(2.0)
+        timed(name, "still", i)
+for i in range(args.changes):
+    contour.Isosurfaces = [157.0 + (i + 1)]
+    contour.UpdatePipeline()
+    for name in (order if i % 2 == 0 else order[::-1]):
+        timed(name, "geometry", i)
+
+new = not os.path.exists(args.csv) or os.path.getsize(args.csv) == 0
+with open(args.csv, "a", newline="") as f:
+    w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+    if new:
+        w.writeheader()
+    w.writerows(rows)
+for r in rows:
+    print("%-8s %-9s %d: %8.1f ms (CPU %8.1f ms)" % (r["view"], r["event"], r["index"], r["seconds"] * 1e3,
+                                                      r["cpu_seconds"] * 1e3))
+print("%d triangles, %dx%d" % (triangles, size[0], size[1]))

@@ -1,0 +1,68 @@
+"""The Whitted Ray Trace view against ParaView's Render View in the same pvbatch process (pv_view_bench.py):
+first frame of a new 1M-triangle contour, still frame after a camera turn, frame after the contour value changes;
+ParaView's defaults (light kit, 1024x768)."""
+import os
+import statistics
+
+from ..markdown import commands_block, fmt_ratio, md_table, ms, ratio
+from ..runner import HERE, XVFB, fresh, paraview_env, paraview_tools, read_csv
+
+EVENTS = [("first", "first frame (new contour shown)"), ("still", "still frame after a 2-degree camera turn"),
+          ("geometry", "frame after the contour value changes")]
+
+
+def run(ctx):
+    c = ctx.cfg
+    path = fresh(ctx.path("paraview.csv"))
+    tools = paraview_tools(ctx, "paraview")
+    if not tools:
+        return
+    plugin, pvpath, pvbatch, _ = tools
+    for rep in range(c["pv_reps"]):
+        first = "whitted" if rep % 2 == 0 else "render"
+        cmd = XVFB + [pvbatch, os.path.join(HERE, "pv_view_bench.py"), "--plugin", plugin, "--csv", path,
+                      "--extent", str(c["pv_extent"]), "--size", c["pv_size"], "--still", str(c["pv_still"]),
+                      "--changes", str(c["pv_changes"]), "--first", first, "--rep", str(rep)]
+        ctx.runner.run(cmd, "paraview views rep %d (%s first)" % (rep, first), env=paraview_env(pvpath), timeout=1800)
+
+
+def outputs(ctx):
+    return ["paraview.csv"]
+
+
+def report(ctx, head):
+    rows = read_csv(ctx.path("paraview.csv"))
+    if not rows:
+        return []
+    r0 = rows[0]
+    reps = len({r["rep"] for r in rows})
+    L = ["\n## ParaView: Whitted view against the Render View (pvbatch)\n",
+         "One `pvbatch` process holds both views with ParaView's defaults (light kit, background, orientation "
+         "axes; the Whitted view: shadows from the light kit's lights, depth 5, 1 sample per pixel, all cores; the "
+         "Render View: OpenGL on llvmpipe, no shadows), the same camera, %dx%d, showing the same Contour "
+         "(Wavelet, %d triangles) as a plain Surface (`testing/benchmark/pv_view_bench.py`). Each view first "
+         "renders a small sphere (window, context, shaders), so the first frame is that of a new result in an "
+         "open view: data delivery + upload (Render View) or conversion + BVH build + trace. Geometry change = "
+         "contour value +1 (the filter runs once before, untimed). Frames alternate between the views; %d "
+         "process%s, alternating which view goes first. Time = Render() wall time, median over all frames of "
+         "all processes; CPU = the process's CPU time during Render().\n" % (
+             r0["width"], r0["height"], r0["triangles"], reps, "" if reps == 1 else "es")]
+    tab = []
+    for event, label in EVENTS:
+        sel = {v: [r for r in rows if r["event"] == event and r["view"] == v] for v in ("whitted", "render")}
+        if not sel["whitted"] or not sel["render"]:
+            continue
+        med = {v: (statistics.median(r["seconds"] for r in rs), statistics.median(r["cpu_seconds"] for r in rs))
+               for v, rs in sel.items()}
+        rw, rc = ratio(med["render"][0], med["whitted"][0]), ratio(med["render"][1], med["whitted"][1])
+        tab.append([label, len(sel["whitted"]), "%s / %s" % (ms(med["whitted"][0]), ms(med["whitted"][1])),
+                    "%s / %s" % (ms(med["render"][0]), ms(med["render"][1])), fmt_ratio(rw), fmt_ratio(rc)])
+        head.append(["ParaView %s, Whitted view vs Render View, %d triangles %dx%d" % (
+            label, r0["triangles"], r0["width"], r0["height"]), "%s ms" % ms(med["whitted"][0]),
+            "%s ms" % ms(med["render"][0]), fmt_ratio(rw), fmt_ratio(rc)])
+    L.append(md_table(["frame", "frames per view", "Whitted view ms (wall / CPU)", "Render View ms (wall / CPU)",
+                       "speed ratio (wall)", "speed ratio (CPU)"], tab))
+    L.append("\nLoad average during the frames: %.2f-%.2f.\n" % (min(r["load"] for r in rows),
+                                                                 max(r["load"] for r in rows)))
+    L.append(commands_block(ctx, "paraview"))
+    return L
