@@ -1,6 +1,8 @@
 #include "vtkWhittedPass.h"
 
 #include "vtkWhittedCompositor.h"
+#include "vtkWhittedFrameStatistics.h"
+#include "vtkWhittedMatrix.h"
 #include "vtkWhittedSceneConverter.h"
 
 #include "vtkCamera.h"
@@ -12,7 +14,6 @@
 #include "vtkInformationDoubleKey.h"
 #include "vtkInformationDoubleVectorKey.h"
 #include "vtkLightsPass.h"
-#include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpaquePass.h"
 #include "vtkOpenGLRenderWindow.h"
@@ -30,6 +31,7 @@
 #include "report.h"
 #include "scene.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <exception>
@@ -107,6 +109,37 @@ public:
   }
   whitted::FrameBuffer Frame;
   int Rendered = 0;
+  vtkNew<vtkWhittedFrameStatistics> Statistics;
+
+  // What one frame computed, for the statistics
+  struct FrameResult
+  {
+    vtkWhittedSceneConverter::Result Conversion;
+    whitted::CommitStats Commit;
+    whitted::FrameStats Trace;
+    double ConversionTime = 0.0;
+    double CompositeTime = 0.0;
+  };
+
+  // The pass's settings for this frame as the tracer's (interactive frames at reduced quality)
+  static whitted::RenderSettings FrameSettings(
+    vtkWhittedPass* pass, vtkCamera* cam, bool headlightShading);
+
+  // Traces the committed scene into Frame. The callbacks (abort check, progress) run on this
+  // thread between tiles while worker threads trace: an exception from them must not unwind
+  // through the tracer, so it aborts the frame and is rethrown afterwards.
+  whitted::FrameStats Trace(vtkWhittedPass* pass, vtkOpenGLRenderWindow* win,
+    const whitted::Scene& scene, const whitted::Camera& camera, whitted::RenderSettings settings,
+    int width, int height);
+
+  // Draws the environment props (skybox) with OpenGL, composites the traced image over them, then
+  // runs VTK's OpenGL stages for the props the tracer does not draw; returns the props drawn.
+  int Composite(const vtkRenderState* s, vtkOpenGLRenderWindow* win,
+    const vtkWhittedSceneConverter::Result& conv, const int viewport[4]);
+
+  // Fills Statistics and the report from a traced frame.
+  void RecordStatistics(
+    const FrameResult& r, const whitted::SceneStats& scene, double totalTime, std::string& report);
 
 protected:
   vtkWhittedPassInternals() = default;
@@ -152,11 +185,16 @@ void vtkWhittedPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Shadows: " << this->Shadows << "\n";
   os << indent << "Reflections: " << this->Reflections << "\n";
   os << indent << "Refractions: " << this->Refractions << "\n";
+  os << indent << "Fresnel: " << this->Fresnel << "\n";
   os << indent << "ContributionThreshold: " << this->ContributionThreshold << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
-  os << indent << "Fresnel: " << this->Fresnel << "\n";
+  os << indent << "Interactive: " << this->Interactive << "\n";
+  os << indent << "InteractiveMaxDepth: " << this->InteractiveMaxDepth << "\n";
+  os << indent << "InteractiveShadows: " << this->InteractiveShadows << "\n";
+  os << indent << "InteractiveImageReduction: " << this->InteractiveImageReduction << "\n";
   os << indent << "ImageSplit: " << this->ImageSplit[0] << " " << this->ImageSplit[1] << "\n";
-  os << indent << "ImageReductionFactor: " << this->ImageReductionFactor << "\n";
+  os << indent << "LastFrameStatistics:\n";
+  this->Internals->Statistics->PrintSelf(os, indent.GetNextIndent());
   os << indent << "LastFrameReport:\n" << this->LastFrameReport;
 }
 
@@ -209,101 +247,42 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
   }
   this->InvokeEvent(vtkCommand::StartEvent);
 
-  // Image size: the renderer's (tiled) viewport, or the render state's framebuffer
-  int width = 0, height = 0, x = 0, y = 0;
+  // Image size: the renderer's (tiled) viewport, or the render state's framebuffer; interactive
+  // frames trace fewer pixels with the same camera, stretched when drawn
+  int viewport[4] = { 0, 0, 0, 0 }; // x, y, width, height
   if (vtkFrameBufferObjectBase* fbo = s->GetFrameBuffer())
   {
-    fbo->GetLastSize(width, height);
+    fbo->GetLastSize(viewport[2], viewport[3]);
   }
   else
   {
-    ren->GetTiledSizeAndOrigin(&width, &height, &x, &y);
+    ren->GetTiledSizeAndOrigin(&viewport[2], &viewport[3], &viewport[0], &viewport[1]);
   }
-  // Reduced resolution (interactive frames): the same camera, fewer pixels, stretched when drawn
-  const int traceWidth = (width + this->ImageReductionFactor - 1) / this->ImageReductionFactor;
-  const int traceHeight = (height + this->ImageReductionFactor - 1) / this->ImageReductionFactor;
+  const int reduction = this->Interactive ? this->InteractiveImageReduction : 1;
+  const int traceWidth = (viewport[2] + reduction - 1) / reduction;
+  const int traceHeight = (viewport[3] + reduction - 1) / reduction;
 
-  // Conversion, BVH builds and tracing may throw (std::bad_alloc for a scene too large for memory,
+  // Convert -> commit -> trace. Each may throw (std::bad_alloc for a scene too large for memory,
   // or an exception from an observer of the abort check / progress): the frame then fails cleanly
-  vtkWhittedSceneConverter::Result conv;
+  vtkWhittedPassInternals::FrameResult r;
   vtkWhittedSceneConverter* converter = nullptr;
-  whitted::Scene* scenePtr = nullptr;
-  whitted::CommitStats commit;
-  whitted::FrameStats frame;
   try
   {
-    // Scene conversion (cached) and BVH builds of what changed
+    // Scene conversion (cached)
     converter = &in->ConverterFor(ren);
-    converter->Update(ren, s->GetPropArray(), s->GetPropArrayCount(), this, conv);
-    scenePtr = &converter->GetScene();
-    this->LastConversionTime = SecondsSince(start);
-    commit = scenePtr->commit();
+    converter->Update(ren, s->GetPropArray(), s->GetPropArrayCount(), this, r.Conversion);
+    r.ConversionTime = SecondsSince(start);
 
-    // Camera: rays from the inverse of VTK's composite projection (tiles, IceT viewports)
+    // BVH builds of what changed
+    r.Commit = converter->GetScene().commit();
+
+    // Trace; rays from the inverse of VTK's composite projection (tiles, IceT viewports)
     vtkCamera* cam = ren->GetActiveCamera();
-    vtkMatrix4x4* m = cam->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1);
-    whitted::Mat4 worldToClip(1.0);
-    for (int r = 0; r < 4; ++r)
-    {
-      for (int c = 0; c < 4; ++c)
-      {
-        worldToClip[c][r] = m->GetElement(r, c);
-      }
-    }
-    const whitted::Camera camera = whitted::Camera::fromViewProjection(worldToClip);
-
-    // Trace. The callbacks run on this thread between tiles while worker threads trace: an
-    // exception must not unwind through the tracer, so it aborts the frame and is rethrown after.
-    whitted::RenderSettings rs;
-    rs.integrator.maxDepth = this->MaxDepth;
-    rs.integrator.shadows = this->Shadows;
-    rs.integrator.reflections = this->Reflections;
-    rs.integrator.refractions = this->Refractions;
-    rs.integrator.contributionThreshold = static_cast<float>(this->ContributionThreshold);
-    rs.integrator.fresnel = this->Fresnel;
-    rs.integrator.headlightShading = conv.HeadlightShading;
-    // VTK's specular view vector comes from the camera position, also for parallel projection
-    rs.integrator.viewFromEye = cam->GetParallelProjection() != 0;
-    double eye[3];
-    cam->GetPosition(eye);
-    rs.integrator.eye = whitted::Vec3(eye[0], eye[1], eye[2]);
-    rs.samplesPerPixel = this->SamplesPerPixel;
-    rs.adaptive = this->AdaptiveSampling;
-    rs.threads = this->NumberOfThreads;
-    rs.tileStride = this->ImageSplit[0];
-    rs.tileOffset = this->ImageSplit[1];
-    std::exception_ptr callbackError;
-    rs.abortCheck = [win, &callbackError]()
-    {
-      try
-      {
-        return callbackError || win->CheckAbortStatus() != 0;
-      }
-      catch (...)
-      {
-        callbackError = std::current_exception();
-        return true;
-      }
-    };
-    rs.progress = [this, &callbackError](double fraction)
-    {
-      try
-      {
-        if (!callbackError)
-        {
-          this->InvokeEvent(vtkCommand::ProgressEvent, &fraction);
-        }
-      }
-      catch (...)
-      {
-        callbackError = std::current_exception();
-      }
-    };
-    frame = whitted::render(*scenePtr, camera, rs, traceWidth, traceHeight, in->Frame);
-    if (callbackError)
-    {
-      std::rethrow_exception(callbackError);
-    }
+    const whitted::Camera camera = whitted::Camera::fromViewProjection(vtkWhittedToMat4(
+      cam->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1)));
+    r.Trace = in->Trace(this, win, converter->GetScene(), camera,
+      vtkWhittedPassInternals::FrameSettings(this, cam, r.Conversion.HeadlightShading), traceWidth,
+      traceHeight);
   }
   catch (const std::exception& e)
   {
@@ -315,80 +294,167 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
     this->FailFrame(converter, "unknown exception");
     return;
   }
-  whitted::Scene& scene = *scenePtr;
 
-  // Composite colour + depth, then VTK's OpenGL stages for the props left to it
+  // Composite, then VTK's OpenGL stages for the props left to it (overlays last)
+  const auto compositeStart = std::chrono::steady_clock::now();
+  in->Rendered = in->Composite(s, win, r.Conversion, viewport);
+  r.CompositeTime = SecondsSince(compositeStart);
+
+  in->RecordStatistics(
+    r, converter->GetScene().stats(), SecondsSince(start), this->LastFrameReport);
+  this->InvokeEvent(vtkCommand::EndEvent);
+}
+
+//------------------------------------------------------------------------------
+whitted::RenderSettings vtkWhittedPassInternals::FrameSettings(
+  vtkWhittedPass* pass, vtkCamera* cam, bool headlightShading)
+{
+  const bool interactive = pass->GetInteractive();
+  whitted::RenderSettings rs;
+  whitted::IntegratorSettings& is = rs.integrator;
+  is.maxDepth = interactive ? std::min(pass->GetMaxDepth(), pass->GetInteractiveMaxDepth())
+                            : pass->GetMaxDepth();
+  is.shadows = pass->GetShadows() && (!interactive || pass->GetInteractiveShadows());
+  is.reflections = pass->GetReflections();
+  is.refractions = pass->GetRefractions();
+  is.contributionThreshold = static_cast<float>(pass->GetContributionThreshold());
+  is.fresnel = pass->GetFresnel();
+  is.headlightShading = headlightShading;
+  // VTK's specular view vector comes from the camera position, also for parallel projection
+  is.viewFromEye = cam->GetParallelProjection() != 0;
+  double eye[3];
+  cam->GetPosition(eye);
+  is.eye = whitted::Vec3(eye[0], eye[1], eye[2]);
+  rs.samplesPerPixel = interactive ? 1 : pass->GetSamplesPerPixel();
+  rs.adaptive = !interactive && pass->GetAdaptiveSampling();
+  rs.threads = pass->GetNumberOfThreads();
+  rs.tileStride = pass->GetImageSplit()[0];
+  rs.tileOffset = pass->GetImageSplit()[1];
+  return rs;
+}
+
+//------------------------------------------------------------------------------
+whitted::FrameStats vtkWhittedPassInternals::Trace(vtkWhittedPass* pass, vtkOpenGLRenderWindow* win,
+  const whitted::Scene& scene, const whitted::Camera& camera, whitted::RenderSettings settings,
+  int width, int height)
+{
+  std::exception_ptr callbackError;
+  settings.abortCheck = [win, &callbackError]()
+  {
+    try
+    {
+      return callbackError || win->CheckAbortStatus() != 0;
+    }
+    catch (...)
+    {
+      callbackError = std::current_exception();
+      return true;
+    }
+  };
+  settings.progress = [pass, &callbackError](double fraction)
+  {
+    try
+    {
+      if (!callbackError)
+      {
+        pass->InvokeEvent(vtkCommand::ProgressEvent, &fraction);
+      }
+    }
+    catch (...)
+    {
+      callbackError = std::current_exception();
+    }
+  };
+  const whitted::FrameStats stats =
+    whitted::render(scene, camera, settings, width, height, this->Frame);
+  if (callbackError)
+  {
+    std::rethrow_exception(callbackError);
+  }
+  return stats;
+}
+
+//------------------------------------------------------------------------------
+int vtkWhittedPassInternals::Composite(const vtkRenderState* s, vtkOpenGLRenderWindow* win,
+  const vtkWhittedSceneConverter::Result& conv, const int viewport[4])
+{
   // The tracer's image is premultiplied RGBA at every sample count: drawn as it is, over the
   // environment props (skybox) that OpenGL draws first
-  const auto compositeStart = std::chrono::steady_clock::now();
+  vtkRenderer* ren = s->GetRenderer();
   int rendered = conv.TracedActors;
   if (!conv.BackgroundProps.empty())
   {
     vtkRenderState bgState(ren);
-    bgState.SetPropArrayAndCount(
-      conv.BackgroundProps.data(), static_cast<int>(conv.BackgroundProps.size()));
+    bgState.SetPropArrayAndCount(const_cast<vtkProp**>(conv.BackgroundProps.data()),
+      static_cast<int>(conv.BackgroundProps.size()));
     bgState.SetFrameBuffer(s->GetFrameBuffer());
-    in->OpaquePass->Render(&bgState);
-    rendered += in->OpaquePass->GetNumberOfRenderedProps();
+    this->OpaquePass->Render(&bgState);
+    rendered += this->OpaquePass->GetNumberOfRenderedProps();
   }
-  if (!in->Compositor.Draw(win, in->Frame, x, y, width, height))
+  if (!this->Compositor.Draw(win, this->Frame, viewport[0], viewport[1], viewport[2], viewport[3]))
   {
-    vtkErrorMacro("Could not build the compositing shader.");
+    vtkErrorWithObjectMacro(this->Parent, "Could not build the compositing shader.");
   }
   vtkRenderState glState(ren);
-  glState.SetPropArrayAndCount(conv.OpenGLProps.empty() ? nullptr : conv.OpenGLProps.data(),
+  glState.SetPropArrayAndCount(
+    conv.OpenGLProps.empty() ? nullptr : const_cast<vtkProp**>(conv.OpenGLProps.data()),
     static_cast<int>(conv.OpenGLProps.size()));
   glState.SetFrameBuffer(s->GetFrameBuffer());
-  for (vtkRenderPass* pass :
-    { static_cast<vtkRenderPass*>(in->OpaquePass), static_cast<vtkRenderPass*>(in->TranslucentPass),
-      static_cast<vtkRenderPass*>(in->VolumetricPass),
-      static_cast<vtkRenderPass*>(in->OverlayPass) })
+  for (vtkRenderPass* pass : { static_cast<vtkRenderPass*>(this->OpaquePass),
+         static_cast<vtkRenderPass*>(this->TranslucentPass),
+         static_cast<vtkRenderPass*>(this->VolumetricPass),
+         static_cast<vtkRenderPass*>(this->OverlayPass) })
   {
     pass->Render(&glState);
     rendered += pass->GetNumberOfRenderedProps();
   }
-  in->Rendered = rendered;
-  this->LastCompositeTime = SecondsSince(compositeStart);
+  return rendered;
+}
 
-  // Statistics
-  const whitted::SceneStats sstats = scene.stats();
-  this->LastBuildTime = commit.secondsBuild;
-  this->LastTraceTime = frame.secondsTrace;
-  this->LastTotalTime = SecondsSince(start);
-  this->LastPrimaryRays = frame.rays.primary;
-  this->LastShadowRays = frame.rays.shadow;
-  this->LastReflectionRays = frame.rays.reflection;
-  this->LastRefractionRays = frame.rays.refraction;
-  this->LastRaysSavedByThreshold = frame.rays.savedByThreshold;
-  this->LastRaysSavedByDepth = frame.rays.savedByDepth;
-  this->LastNumberOfTriangles = sstats.triangles;
-  this->LastNumberOfSpheres = sstats.spheres;
-  this->LastNumberOfTubes = sstats.capsules;
-  this->LastBVHBytes = sstats.bvhBytes;
-  this->LastNumberOfTextures = sstats.textures;
-  this->LastTextureBytes = sstats.textureBytes;
-  this->LastSize[0] = traceWidth;
-  this->LastSize[1] = traceHeight;
-  this->LastNumberOfGeometriesConverted = conv.GeometriesConverted;
-  this->LastNumberOfObjectsRebuilt = commit.objectsRebuilt;
-  this->LastTopLevelRebuilt = commit.topLevelRebuilt;
-  this->LastNumberOfTracedActors = conv.TracedActors;
-  this->LastNumberOfOpenGLProps = static_cast<int>(conv.OpenGLProps.size());
-  this->LastFrameAborted = frame.aborted;
-  this->LastFrameFailed = false;
-  this->LastNumberOfSafetyNetCatches = frame.rays.safetyNetCatches();
+//------------------------------------------------------------------------------
+void vtkWhittedPassInternals::RecordStatistics(
+  const FrameResult& r, const whitted::SceneStats& scene, double totalTime, std::string& report)
+{
+  vtkWhittedFrameStatistics* st = this->Statistics;
+  const whitted::RayStats& rays = r.Trace.rays;
+  st->ConversionTime = r.ConversionTime;
+  st->BuildTime = r.Commit.secondsBuild;
+  st->TraceTime = r.Trace.secondsTrace;
+  st->CompositeTime = r.CompositeTime;
+  st->TotalTime = totalTime;
+  st->PrimaryRays = rays.primary;
+  st->ShadowRays = rays.shadow;
+  st->ReflectionRays = rays.reflection;
+  st->RefractionRays = rays.refraction;
+  st->RaysSavedByThreshold = rays.savedByThreshold;
+  st->RaysSavedByDepth = rays.savedByDepth;
+  st->NumberOfTriangles = scene.triangles;
+  st->NumberOfSpheres = scene.spheres;
+  st->NumberOfTubes = scene.capsules;
+  st->BVHBytes = scene.bvhBytes;
+  st->NumberOfTextures = scene.textures;
+  st->TextureBytes = scene.textureBytes;
+  st->Size[0] = this->Frame.width;
+  st->Size[1] = this->Frame.height;
+  st->NumberOfGeometriesConverted = r.Conversion.GeometriesConverted;
+  st->NumberOfObjectsRebuilt = r.Commit.objectsRebuilt;
+  st->TopLevelRebuilt = r.Commit.topLevelRebuilt;
+  st->NumberOfTracedActors = r.Conversion.TracedActors;
+  st->NumberOfOpenGLProps = static_cast<int>(r.Conversion.OpenGLProps.size());
+  st->NumberOfSafetyNetCatches = rays.safetyNetCatches();
+  st->Aborted = r.Trace.aborted;
+  st->Failed = false;
+  st->Modified();
 
-  this->LastFrameReport = whitted::frameReport(
-    frame, sstats, commit, traceWidth, traceHeight, this->LastConversionTime, "conversion");
+  report = whitted::frameReport(r.Trace, scene, r.Commit, this->Frame.width, this->Frame.height,
+    r.ConversionTime, "conversion");
   char line[256];
   std::snprintf(line, sizeof line,
     "  vtk              composite %.2f ms, total %.2f ms; %d actors traced (%d geometries "
     "converted), %d props drawn by OpenGL\n",
-    this->LastCompositeTime * 1e3, this->LastTotalTime * 1e3, conv.TracedActors,
-    conv.GeometriesConverted, this->LastNumberOfOpenGLProps);
-  this->LastFrameReport += line;
-
-  this->InvokeEvent(vtkCommand::EndEvent);
+    r.CompositeTime * 1e3, totalTime * 1e3, r.Conversion.TracedActors,
+    r.Conversion.GeometriesConverted, st->NumberOfOpenGLProps);
+  report += line;
 }
 
 //------------------------------------------------------------------------------
@@ -406,21 +472,16 @@ void vtkWhittedPass::FailFrame(vtkWhittedSceneConverter* converter, const char* 
   }
   in->Frame = whitted::FrameBuffer();
   in->Rendered = 0;
-  this->LastFrameFailed = true;
-  this->LastFrameAborted = false;
-  this->LastBuildTime = this->LastTraceTime = this->LastCompositeTime = 0.0;
-  this->LastPrimaryRays = this->LastShadowRays = this->LastReflectionRays = 0;
-  this->LastRefractionRays = this->LastRaysSavedByThreshold = this->LastRaysSavedByDepth = 0;
-  this->LastNumberOfTriangles = this->LastNumberOfSpheres = this->LastNumberOfTubes = 0;
-  this->LastBVHBytes = 0;
-  this->LastNumberOfTextures = this->LastTextureBytes = 0;
-  this->LastSize[0] = this->LastSize[1] = 0;
-  this->LastNumberOfGeometriesConverted = this->LastNumberOfObjectsRebuilt = 0;
-  this->LastTopLevelRebuilt = false;
-  this->LastNumberOfSafetyNetCatches = 0;
-  this->LastNumberOfTracedActors = this->LastNumberOfOpenGLProps = 0;
+  in->Statistics->Reset();
+  in->Statistics->Failed = true;
   this->LastFrameReport = std::string("frame failed: ") + what + "\n";
   this->InvokeEvent(vtkCommand::EndEvent);
+}
+
+//------------------------------------------------------------------------------
+vtkWhittedFrameStatistics* vtkWhittedPass::GetLastFrameStatistics()
+{
+  return this->Internals->Statistics;
 }
 
 //------------------------------------------------------------------------------

@@ -24,23 +24,26 @@
  * @endcode
  * Without keys an actor keeps its VTK look: reflectance 0, transmittance 1 - Opacity, index 1.
  *
- * The statistics of the last frame (time per phase, rays by kind, scene size, what was rebuilt) are
- * available through the GetLast...() methods and as text through GetLastFrameReport().
+ * The settings (MaxDepth, SamplesPerPixel, ...) have their defaults and ranges in one table,
+ * vtkWhittedSettings.h. The statistics of the last frame (time per phase, rays by kind, scene size,
+ * what was rebuilt) are in GetLastFrameStatistics(), and as text in GetLastFrameReport().
  *
- * @sa vtkRenderPass vtkOSPRayPass
+ * @sa vtkRenderPass vtkOSPRayPass vtkWhittedFrameStatistics vtkWhittedSettings.h
  */
 
 #ifndef vtkWhittedPass_h
 #define vtkWhittedPass_h
 
 #include "vtkRenderPass.h"
-#include "vtkWhittedModule.h" // For export macro
+#include "vtkWhittedModule.h"   // For export macro
+#include "vtkWhittedSettings.h" // For the settings' defaults and ranges
 
 #include <string> // for std::string
 
 class vtkFloatArray;
 class vtkInformationDoubleKey;
 class vtkInformationDoubleVectorKey;
+class vtkWhittedFrameStatistics;
 class vtkWhittedPassInternals;
 class vtkWhittedSceneConverter;
 
@@ -64,90 +67,68 @@ public:
 
   ///@{
   /**
-   * Maximum number of secondary bounces (reflection and refraction) per camera ray; 0 gives local
-   * shading (plus shadows) only. Default is 5.
+   * Settings of full-quality frames. The meaning, default and range of each are in the settings
+   * table, vtkWhittedSettings.h (also plugin/README.md); setters clamp to the range.
+   * MaxDepth: secondary bounces (reflection, refraction) per camera ray.
+   * SamplesPerPixel: stratified, jittered camera rays per pixel.
+   * AdaptiveSampling: SamplesPerPixel only where the neighbouring pixels do not predict a pixel.
+   * Shadows, Reflections, Refractions: trace shadow, mirror, bent transmitted rays.
+   * Fresnel: exact dielectric Fresnel at refracting surfaces.
+   * ContributionThreshold: secondary rays of a smaller path weight are not traced.
+   * NumberOfThreads: tracing threads; 0 = every core the process may run on.
    */
-  vtkSetClampMacro(MaxDepth, int, 0, 64);
+  vtkSetClampMacro(
+    MaxDepth, int, vtkWhittedSettings::MaxDepth.Minimum, vtkWhittedSettings::MaxDepth.Maximum);
   vtkGetMacro(MaxDepth, int);
-  ///@}
-
-  ///@{
-  /**
-   * Camera samples per pixel (stratified, jittered); 1 traces the pixel centre, like OpenGL without
-   * multisampling. Default is 1.
-   */
-  vtkSetClampMacro(SamplesPerPixel, int, 1, 256);
+  vtkSetClampMacro(SamplesPerPixel, int, vtkWhittedSettings::SamplesPerPixel.Minimum,
+    vtkWhittedSettings::SamplesPerPixel.Maximum);
   vtkGetMacro(SamplesPerPixel, int);
-  ///@}
-
-  ///@{
-  /**
-   * Adaptive anti-aliasing: trace one sample per pixel first and SamplesPerPixel samples only where
-   * the neighbouring pixels do not predict a pixel (edges, silhouettes, highlights, texture detail;
-   * not smooth shading, which varies linearly). Has no effect when SamplesPerPixel is 1. Default is
-   * off.
-   */
   vtkSetMacro(AdaptiveSampling, bool);
   vtkGetMacro(AdaptiveSampling, bool);
   vtkBooleanMacro(AdaptiveSampling, bool);
-  ///@}
-
-  ///@{
-  /**
-   * Trace shadow rays toward every light (transmissive actors cast coloured shadows). Default is
-   * on.
-   */
   vtkSetMacro(Shadows, bool);
   vtkGetMacro(Shadows, bool);
   vtkBooleanMacro(Shadows, bool);
-  ///@}
-
-  ///@{
-  /**
-   * Trace mirror rays for actors with a REFLECTANCE. Default is on.
-   */
   vtkSetMacro(Reflections, bool);
   vtkGetMacro(Reflections, bool);
   vtkBooleanMacro(Reflections, bool);
-  ///@}
-
-  ///@{
-  /**
-   * Bend transmitted rays by the INDEX_OF_REFRACTION (Snell's law, total internal reflection). When
-   * off, transmissive actors are see-through without bending. Default is on.
-   */
   vtkSetMacro(Refractions, bool);
   vtkGetMacro(Refractions, bool);
   vtkBooleanMacro(Refractions, bool);
-  ///@}
-
-  ///@{
-  /**
-   * A secondary ray whose weight (product of reflectances / transmittances along its path) falls
-   * below this value is not traced: it could change the 8-bit pixel by less than one step.
-   * Default is 1/255.
-   */
-  vtkSetClampMacro(ContributionThreshold, double, 0.0, 1.0);
+  vtkSetMacro(Fresnel, bool);
+  vtkGetMacro(Fresnel, bool);
+  vtkBooleanMacro(Fresnel, bool);
+  vtkSetClampMacro(ContributionThreshold, double, vtkWhittedSettings::ContributionThreshold.Minimum,
+    vtkWhittedSettings::ContributionThreshold.Maximum);
   vtkGetMacro(ContributionThreshold, double);
-  ///@}
-
-  ///@{
-  /**
-   * Number of tracing threads; 0 uses every core the process may run on (its CPU affinity, which
-   * mpirun, taskset or a cpuset may restrict). Default is 0.
-   */
-  vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
+  vtkSetClampMacro(NumberOfThreads, int, vtkWhittedSettings::NumberOfThreads.Minimum,
+    vtkWhittedSettings::NumberOfThreads.Maximum);
   vtkGetMacro(NumberOfThreads, int);
   ///@}
 
   ///@{
   /**
-   * Schlick's Fresnel term: transmissive actors reflect more at grazing angles (part of the
-   * transmittance moves to the reflectance). Default is off.
+   * Interactive quality, for frames traced while the camera moves: while Interactive is on, frames
+   * use one sample per pixel without adaptive sampling, at most InteractiveMaxDepth bounces, shadow
+   * rays only if InteractiveShadows (and Shadows) is on, and are traced at
+   * 1/InteractiveImageReduction of the viewport's width and height and stretched over it (nearest
+   * neighbour, colour and depth). The full-quality settings above are left as they are, so turning
+   * Interactive off is all it takes to get full quality back. vtkPVWhittedView sets Interactive for
+   * each of its frames. Interactive default off, InteractiveImageReduction default 1;
+   * InteractiveMaxDepth and InteractiveShadows: see vtkWhittedSettings.h.
    */
-  vtkSetMacro(Fresnel, bool);
-  vtkGetMacro(Fresnel, bool);
-  vtkBooleanMacro(Fresnel, bool);
+  vtkSetMacro(Interactive, bool);
+  vtkGetMacro(Interactive, bool);
+  vtkBooleanMacro(Interactive, bool);
+  vtkSetClampMacro(InteractiveMaxDepth, int, vtkWhittedSettings::InteractiveMaxDepth.Minimum,
+    vtkWhittedSettings::InteractiveMaxDepth.Maximum);
+  vtkGetMacro(InteractiveMaxDepth, int);
+  vtkSetMacro(InteractiveShadows, bool);
+  vtkGetMacro(InteractiveShadows, bool);
+  vtkBooleanMacro(InteractiveShadows, bool);
+  vtkSetClampMacro(
+    InteractiveImageReduction, int, 1, vtkWhittedSettings::MaximumImageReduction.Maximum);
+  vtkGetMacro(InteractiveImageReduction, int);
   ///@}
 
   ///@{
@@ -160,15 +141,6 @@ public:
    */
   void SetImageSplit(int stride, int offset);
   vtkGetVector2Macro(ImageSplit, int);
-  ///@}
-
-  ///@{
-  /**
-   * Trace at 1/factor of the viewport's width and height and stretch the result over the viewport
-   * (nearest neighbour, colour and depth). For interactive frames. Default is 1 (full resolution).
-   */
-  vtkSetClampMacro(ImageReductionFactor, int, 1, 16);
-  vtkGetMacro(ImageReductionFactor, int);
   ///@}
 
   ///@{
@@ -186,83 +158,19 @@ public:
   static vtkInformationDoubleKey* INDEX_OF_REFRACTION();
   ///@}
 
-  ///@{
   /**
-   * Statistics of the last frame. Times are wall-clock seconds: conversion of actors to the
-   * tracer's scene, BVH builds, tracing, compositing into the framebuffer (including the OpenGL
-   * stages for props the tracer does not handle).
+   * What the last frame did: time per phase, rays by kind, scene size, what was converted and
+   * rebuilt, safety nets, whether it was aborted or failed. The same object is updated by every
+   * frame.
    */
-  vtkGetMacro(LastConversionTime, double);
-  vtkGetMacro(LastBuildTime, double);
-  vtkGetMacro(LastTraceTime, double);
-  vtkGetMacro(LastCompositeTime, double);
-  vtkGetMacro(LastTotalTime, double);
-  ///@}
-
-  ///@{
-  /**
-   * Rays of the last frame by kind, and secondary rays not traced because their contribution was
-   * below ContributionThreshold or MaxDepth was reached.
-   */
-  vtkGetMacro(LastPrimaryRays, vtkTypeUInt64);
-  vtkGetMacro(LastShadowRays, vtkTypeUInt64);
-  vtkGetMacro(LastReflectionRays, vtkTypeUInt64);
-  vtkGetMacro(LastRefractionRays, vtkTypeUInt64);
-  vtkGetMacro(LastRaysSavedByThreshold, vtkTypeUInt64);
-  vtkGetMacro(LastRaysSavedByDepth, vtkTypeUInt64);
-  ///@}
-
-  ///@{
-  /**
-   * Scene of the last frame: triangles, spheres (points as spheres), tubes (lines as tubes), BVH
-   * memory in bytes, textures held (actor textures and colour maps of
-   * InterpolateScalarsBeforeMapping) and their memory in bytes, image size.
-   */
-  vtkGetMacro(LastNumberOfTriangles, vtkTypeUInt64);
-  vtkGetMacro(LastNumberOfSpheres, vtkTypeUInt64);
-  vtkGetMacro(LastNumberOfTubes, vtkTypeUInt64);
-  vtkGetMacro(LastBVHBytes, vtkTypeUInt64);
-  vtkGetMacro(LastNumberOfTextures, vtkTypeUInt64);
-  vtkGetMacro(LastTextureBytes, vtkTypeUInt64);
-  vtkGetVector2Macro(LastSize, int);
-  ///@}
-
-  ///@{
-  /**
-   * Caching of the last frame: how many geometries (a mapper's input, or one block of a composite
-   * input) were converted again, how many object BVHs were built, whether the top-level BVH over
-   * the instances was rebuilt, how many props were traced and how many were left to OpenGL.
-   */
-  vtkGetMacro(LastNumberOfGeometriesConverted, int);
-  vtkGetMacro(LastNumberOfObjectsRebuilt, int);
-  vtkGetMacro(LastTopLevelRebuilt, bool);
-  vtkGetMacro(LastNumberOfTracedActors, int);
-  vtkGetMacro(LastNumberOfOpenGLProps, int);
-  vtkGetMacro(LastFrameAborted, bool);
-  ///@}
-
-  /**
-   * Safety nets of the last frame: camera samples and pixels with a non-finite value that was
-   * zeroed, and alpha or depth values outside [0, 1] that were clamped. Zero for valid input, and
-   * also for bad input once the scene conversion and commit have rejected or fixed it (with a
-   * warning): tests assert it, so a net cannot hide a bug. The frame report lists each net, and the
-   * input values fixed at commit (materials, lights) beside them.
-   */
-  vtkGetMacro(LastNumberOfSafetyNetCatches, vtkTypeUInt64);
-
-  /**
-   * True when the last frame failed: an exception (e.g. std::bad_alloc from the scene
-   * conversion, the BVH build or the tracer) was reported with vtkErrorMacro, the frame shows only
-   * what vtkCameraPass cleared (the background), and the scene is converted again from scratch at
-   * the next render.
-   */
-  vtkGetMacro(LastFrameFailed, bool);
+  vtkWhittedFrameStatistics* GetLastFrameStatistics();
 
   /**
    * Copies the tracer's image of the last frame (before compositing): colour as 4-component linear
    * RGBA floats as the tracer wrote them, and OpenGL window depth (1 component, 1 where nothing
-   * was hit), rows bottom to top, GetLastSize() pixels. Either array may be null. Empty after a
-   * failed frame. For tests and diagnostics (e.g. checking that no pixel is NaN or infinite).
+   * was hit), rows bottom to top, GetLastFrameStatistics()->GetSize() pixels. Either array may be
+   * null. Empty after a failed frame. For tests and diagnostics (e.g. checking that no pixel is NaN
+   * or infinite).
    */
   void GetLastFrame(vtkFloatArray* rgba, vtkFloatArray* depth);
 
@@ -281,44 +189,21 @@ protected:
   vtkWhittedPass();
   ~vtkWhittedPass() override;
 
-  int MaxDepth = 5;
-  int SamplesPerPixel = 1;
-  bool AdaptiveSampling = false;
-  bool Shadows = true;
-  bool Reflections = true;
-  bool Refractions = true;
-  double ContributionThreshold = 1.0 / 255.0;
-  int NumberOfThreads = 0;
-  bool Fresnel = false;
+  int MaxDepth = vtkWhittedSettings::MaxDepth.Default;
+  int SamplesPerPixel = vtkWhittedSettings::SamplesPerPixel.Default;
+  bool AdaptiveSampling = vtkWhittedSettings::AdaptiveSampling.Default;
+  bool Shadows = vtkWhittedSettings::Shadows.Default;
+  bool Reflections = vtkWhittedSettings::Reflections.Default;
+  bool Refractions = vtkWhittedSettings::Refractions.Default;
+  bool Fresnel = vtkWhittedSettings::Fresnel.Default;
+  double ContributionThreshold = vtkWhittedSettings::ContributionThreshold.Default;
+  int NumberOfThreads = vtkWhittedSettings::NumberOfThreads.Default;
+  bool Interactive = false;
+  int InteractiveMaxDepth = vtkWhittedSettings::InteractiveMaxDepth.Default;
+  bool InteractiveShadows = vtkWhittedSettings::InteractiveShadows.Default;
+  int InteractiveImageReduction = 1;
   int ImageSplit[2] = { 1, 0 };
-  int ImageReductionFactor = 1;
 
-  double LastConversionTime = 0.0;
-  double LastBuildTime = 0.0;
-  double LastTraceTime = 0.0;
-  double LastCompositeTime = 0.0;
-  double LastTotalTime = 0.0;
-  vtkTypeUInt64 LastPrimaryRays = 0;
-  vtkTypeUInt64 LastShadowRays = 0;
-  vtkTypeUInt64 LastReflectionRays = 0;
-  vtkTypeUInt64 LastRefractionRays = 0;
-  vtkTypeUInt64 LastRaysSavedByThreshold = 0;
-  vtkTypeUInt64 LastRaysSavedByDepth = 0;
-  vtkTypeUInt64 LastNumberOfTriangles = 0;
-  vtkTypeUInt64 LastNumberOfSpheres = 0;
-  vtkTypeUInt64 LastNumberOfTubes = 0;
-  vtkTypeUInt64 LastBVHBytes = 0;
-  vtkTypeUInt64 LastNumberOfTextures = 0;
-  vtkTypeUInt64 LastTextureBytes = 0;
-  int LastSize[2] = { 0, 0 };
-  int LastNumberOfGeometriesConverted = 0;
-  int LastNumberOfObjectsRebuilt = 0;
-  bool LastTopLevelRebuilt = false;
-  int LastNumberOfTracedActors = 0;
-  int LastNumberOfOpenGLProps = 0;
-  bool LastFrameAborted = false;
-  vtkTypeUInt64 LastNumberOfSafetyNetCatches = 0;
-  bool LastFrameFailed = false;
   std::string LastFrameReport;
 
   vtkWhittedPassInternals* Internals;

@@ -327,6 +327,351 @@ void MapColors(vtkPolyData* poly, vtkIdType numCells, vtkMapper* mapper, bool ac
   }
 }
 
+//------------------------------------------------------------------------------
+// What the primitive builders below share: the input's points, its valid cell arrays, its colours
+// as the mapper maps them, and the actor's options.
+struct PrimitiveInput
+{
+  vtkPolyData* Poly;
+  vtkPoints* Points;
+  vtkIdType NumberOfPoints;
+  const CellArrays& Cells;
+  const ColorSource& Colors;
+  const vtkWhittedPolyDataConverter::Options& Opts;
+
+  Vec3 Point(vtkIdType i) const
+  {
+    double x[3];
+    this->Points->GetPoint(i, x);
+    return Vec3(x[0], x[1], x[2]);
+  }
+};
+
+//------------------------------------------------------------------------------
+// Points as spheres: every vertex of a vertex cell, or in points representation every point any
+// cell uses (once). They need a positive finite radius (PointSize 0 or NaN gives none).
+void AddSpheres(const PrimitiveInput& in, double radius, whitted::SphereSet& spheres,
+  vtkWhittedPolyDataConverter::Problems& issues)
+{
+  const ColorSource& colors = in.Colors;
+  auto addSphere = [&](vtkIdType pid, vtkIdType cell)
+  {
+    spheres.centers.push_back(in.Point(pid));
+    if (colors.PointColors())
+    {
+      spheres.colors.push_back(colors.Point(pid));
+    }
+    else if (colors.CellColors())
+    {
+      spheres.colors.push_back(colors.CellColor(cell));
+    }
+  };
+  const vtkIdType np = in.NumberOfPoints;
+  if (in.Opts.Representation == VTK_POINTS)
+  {
+    std::vector<bool> seen(static_cast<size_t>(np), false);
+    for (int k = 0; k < 4; ++k)
+    {
+      in.Cells.ForEachValidCell(k, np, issues.InvalidCells,
+        [&](vtkIdType n, const vtkIdType* ids, vtkIdType cellId)
+        {
+          for (vtkIdType i = 0; i < n; ++i)
+          {
+            if (!seen[ids[i]])
+            {
+              seen[ids[i]] = true;
+              addSphere(ids[i], cellId);
+            }
+          }
+        });
+    }
+  }
+  else
+  {
+    in.Cells.ForEachValidCell(CellArrays::Verts, np, issues.InvalidCells,
+      [&](vtkIdType n, const vtkIdType* ids, vtkIdType cellId)
+      {
+        for (vtkIdType i = 0; i < n; ++i)
+        {
+          addSphere(ids[i], cellId);
+        }
+      });
+  }
+  if (!spheres.centers.empty())
+  {
+    if (radius > 0.0 && std::isfinite(radius))
+    {
+      spheres.radii.assign(1, radius);
+    }
+    else
+    {
+      spheres = whitted::SphereSet();
+      issues.NoSphereRadius = true;
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+// Lines as tubes (capsules, so consecutive segments join seamlessly), and in wireframe
+// representation every polygon and strip edge once. They need a positive finite radius (LineWidth
+// 0 or NaN gives none).
+void AddTubes(const PrimitiveInput& in, double radius, whitted::CapsuleSet& capsules,
+  vtkWhittedPolyDataConverter::Problems& issues)
+{
+  const ColorSource& colors = in.Colors;
+  auto addCapsule = [&](vtkIdType a, vtkIdType b, vtkIdType cell)
+  {
+    capsules.p0.push_back(in.Point(a));
+    capsules.p1.push_back(in.Point(b));
+    if (colors.PointColors())
+    {
+      capsules.colors0.push_back(colors.Point(a));
+      capsules.colors1.push_back(colors.Point(b));
+    }
+    else if (colors.CellColors())
+    {
+      capsules.colors0.push_back(colors.CellColor(cell));
+      capsules.colors1.push_back(colors.CellColor(cell));
+    }
+  };
+  const vtkIdType np = in.NumberOfPoints;
+  const int representation = in.Opts.Representation;
+  if (representation != VTK_POINTS)
+  {
+    in.Cells.ForEachValidCell(CellArrays::Lines, np, issues.InvalidCells,
+      [&](vtkIdType n, const vtkIdType* ids, vtkIdType cellId)
+      {
+        for (vtkIdType i = 0; i + 1 < n; ++i)
+        {
+          addCapsule(ids[i], ids[i + 1], cellId);
+        }
+      });
+  }
+  if (representation == VTK_WIREFRAME)
+  {
+    // Edges of polygons and strips, each once
+    std::unordered_set<uint64_t> edges;
+    auto addEdge = [&](vtkIdType a, vtkIdType b, vtkIdType cell)
+    {
+      const uint64_t key =
+        (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint64_t>(std::max(a, b));
+      if (a != b && edges.insert(key).second)
+      {
+        addCapsule(a, b, cell);
+      }
+    };
+    in.Cells.ForEachValidCell(CellArrays::Polys, np, issues.InvalidCells,
+      [&](vtkIdType n, const vtkIdType* ids, vtkIdType cellId)
+      {
+        for (vtkIdType i = 0; i < n; ++i)
+        {
+          addEdge(ids[i], ids[(i + 1) % n], cellId);
+        }
+      });
+    in.Cells.ForEachValidCell(CellArrays::Strips, np, issues.InvalidCells,
+      [&](vtkIdType n, const vtkIdType* ids, vtkIdType cellId)
+      {
+        if (n >= 2)
+        {
+          addEdge(ids[0], ids[1], cellId);
+        }
+        for (vtkIdType j = 0; j + 2 < n; ++j)
+        {
+          addEdge(ids[j], ids[j + 2], cellId);
+          addEdge(ids[j + 1], ids[j + 2], cellId);
+        }
+      });
+  }
+  if (!capsules.p0.empty())
+  {
+    if (radius > 0.0 && std::isfinite(radius))
+    {
+      capsules.radii.assign(1, radius);
+    }
+    else
+    {
+      capsules = whitted::CapsuleSet();
+      issues.NoTubeRadius = true;
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+// A per-point array usable as texture (or colour-map) coordinates: at least one tuple per point,
+// 1 to 3 components. Null (and counted) otherwise.
+vtkDataArray* UsableCoordinates(vtkDataArray* a, vtkIdType np, bool& shortArray)
+{
+  if (a &&
+    (a->GetNumberOfTuples() < np || a->GetNumberOfComponents() < 1 ||
+      a->GetNumberOfComponents() > 3))
+  {
+    shortArray = true;
+    return nullptr;
+  }
+  return a;
+}
+
+//------------------------------------------------------------------------------
+// Normals by VTK's rule: point normals unless the interpolation is flat, else cell normals, else
+// none (facet normals). Arrays shorter than what they describe (or not 3 components) are ignored
+// and counted in shortArray.
+void ChooseNormals(const PrimitiveInput& in, vtkDataArray*& pointNormals,
+  vtkDataArray*& cellNormals, bool& shortArray)
+{
+  pointNormals = in.Opts.Flat ? nullptr : in.Poly->GetPointData()->GetNormals();
+  if (pointNormals &&
+    (pointNormals->GetNumberOfTuples() < in.NumberOfPoints ||
+      pointNormals->GetNumberOfComponents() != 3))
+  {
+    pointNormals = nullptr;
+    shortArray = true;
+  }
+  cellNormals = pointNormals ? nullptr : in.Poly->GetCellData()->GetNormals();
+  if (cellNormals &&
+    (cellNormals->GetNumberOfTuples() < in.Cells.Total ||
+      cellNormals->GetNumberOfComponents() != 3))
+  {
+    cellNormals = nullptr;
+    shortArray = true;
+  }
+}
+
+//------------------------------------------------------------------------------
+// A normal of a normals array as the core takes it. Bad vectors (NaN, infinite, zero) are left to
+// the core, which falls back to the facet normal, but counted.
+Vec3f NormalAt(vtkDataArray* normals, vtkIdType i, vtkIdType& bad)
+{
+  double n[3];
+  normals->GetTuple(i, n);
+  const Vec3f v(static_cast<float>(n[0]), static_cast<float>(n[1]), static_cast<float>(n[2]));
+  if (!whitted::isFinite(v) || !(glm::dot(v, v) > 0.0f))
+  {
+    ++bad;
+  }
+  return v;
+}
+
+//------------------------------------------------------------------------------
+// The per-point attributes a mesh vertex takes from its point: position, colour, texture
+// coordinates of the actor's texture, or the colour-map coordinate (first component) of
+// InterpolateScalarsBeforeMapping (the mapper gives one or the other, never both).
+struct VertexAttributes
+{
+  const PrimitiveInput& In;
+  vtkDataArray* TCoords;
+  vtkDataArray* ColorCoords;
+
+  VertexAttributes(const PrimitiveInput& in, vtkWhittedPolyDataConverter::Problems& issues)
+    : In(in)
+    , TCoords(UsableCoordinates(in.Opts.TCoords ? in.Poly->GetPointData()->GetTCoords() : nullptr,
+        in.NumberOfPoints, issues.ShortTCoords))
+    , ColorCoords(UsableCoordinates(in.Colors.Coordinates, in.NumberOfPoints, issues.ShortTCoords))
+  {
+  }
+
+  void Resize(whitted::TriangleMesh& m, size_t n) const
+  {
+    m.positions.resize(n);
+    m.vertexColors.resize(this->In.Colors.PointColors() ? n : 0);
+    m.texcoords.resize(this->TCoords ? n : 0);
+    m.colorCoords.resize(this->ColorCoords ? n : 0);
+  }
+
+  // Vertex v from point pid
+  void Set(whitted::TriangleMesh& m, size_t v, vtkIdType pid) const
+  {
+    m.positions[v] = this->In.Point(pid);
+    if (this->In.Colors.PointColors())
+    {
+      m.vertexColors[v] = this->In.Colors.Point(pid);
+    }
+    if (this->TCoords)
+    {
+      double t[3] = { 0.0, 0.0, 0.0 };
+      this->TCoords->GetTuple(pid, t);
+      m.texcoords[v] = Vec2f(static_cast<float>(t[0]),
+        this->TCoords->GetNumberOfComponents() > 1 ? static_cast<float>(t[1]) : 0.5f);
+    }
+    if (this->ColorCoords)
+    {
+      m.colorCoords[v] = static_cast<float>(this->ColorCoords->GetComponent(pid, 0));
+    }
+  }
+};
+
+//------------------------------------------------------------------------------
+// Polygons and strips as a triangle mesh, with normals by VTK's rule, colours, texture coordinates
+// (for the actor's texture) and colour-map coordinates (InterpolateScalarsBeforeMapping).
+void AddTriangles(const PrimitiveInput& in, vtkWhittedPolyDataConverter::Primitives& out,
+  vtkWhittedPolyDataConverter::Problems& issues)
+{
+  TriangleList tl;
+  Triangulate(in.Points, in.Cells, tl, issues.InvalidCells);
+  if (tl.Tris.empty())
+  {
+    return;
+  }
+  vtkDataArray* pointNormals = nullptr;
+  vtkDataArray* cellNormals = nullptr;
+  ChooseNormals(in, pointNormals, cellNormals, issues.ShortNormals);
+  const VertexAttributes attributes(in, issues);
+  out.TCoords = attributes.TCoords != nullptr;
+
+  whitted::TriangleMesh& m = out.Mesh;
+  if (!cellNormals)
+  {
+    // Shared vertices
+    const vtkIdType np = in.NumberOfPoints;
+    attributes.Resize(m, static_cast<size_t>(np));
+    for (vtkIdType i = 0; i < np; ++i)
+    {
+      attributes.Set(m, static_cast<size_t>(i), i);
+    }
+    m.triangles = std::move(tl.Tris);
+    if (pointNormals)
+    {
+      m.normals.resize(static_cast<size_t>(np));
+      for (vtkIdType i = 0; i < np; ++i)
+      {
+        m.normals[i] = NormalAt(pointNormals, i, issues.BadNormals);
+      }
+    }
+  }
+  else
+  {
+    // Cell normals: the core interpolates per-vertex normals only, so each triangle gets its own
+    // three vertices carrying its cell's normal
+    const size_t nt = tl.Tris.size();
+    attributes.Resize(m, nt * 3);
+    m.normals.resize(nt * 3);
+    m.triangles.resize(nt);
+    vtkIdType lastCell = -1;
+    Vec3f n(0.0f);
+    for (size_t t = 0; t < nt; ++t)
+    {
+      if (tl.Cells[t] != lastCell)
+      {
+        lastCell = tl.Cells[t];
+        n = NormalAt(cellNormals, lastCell, issues.BadNormals);
+      }
+      for (int k = 0; k < 3; ++k)
+      {
+        attributes.Set(m, t * 3 + k, tl.Tris[t][k]);
+        m.normals[t * 3 + k] = n;
+      }
+      m.triangles[t] = glm::uvec3(t * 3, t * 3 + 1, t * 3 + 2);
+    }
+  }
+  if (in.Colors.CellColors())
+  {
+    m.triangleColors.resize(tl.Cells.size());
+    for (size_t t = 0; t < tl.Cells.size(); ++t)
+    {
+      m.triangleColors[t] = in.Colors.CellColor(tl.Cells[t]);
+    }
+  }
+}
+
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -468,301 +813,11 @@ void vtkWhittedPolyDataConverter::ConvertPrimitives(
     out.ColorTexture.interpolate = false;
   }
 
-  auto point = [&](vtkIdType i)
+  const PrimitiveInput in{ poly, points, np, cells, colors, o };
+  AddSpheres(in, o.PointSize * radiusScale, out.Spheres, issues);
+  AddTubes(in, o.LineWidth * radiusScale, out.Capsules, issues);
+  if (o.Representation == VTK_SURFACE)
   {
-    double x[3];
-    points->GetPoint(i, x);
-    return Vec3(x[0], x[1], x[2]);
-  };
-  // Spheres and tubes need a positive finite radius (PointSize / LineWidth 0 or NaN give none)
-  const double sphereRadius = o.PointSize * radiusScale;
-  const double tubeRadius = o.LineWidth * radiusScale;
-  const bool sphereRadiusOk = sphereRadius > 0.0 && std::isfinite(sphereRadius);
-  const bool tubeRadiusOk = tubeRadius > 0.0 && std::isfinite(tubeRadius);
-
-  // Points as spheres: every vertex of a vertex cell, or in points representation every point any
-  // cell uses (once)
-  auto addSphere = [&](vtkIdType pid, vtkIdType cell)
-  {
-    out.Spheres.centers.push_back(point(pid));
-    if (colors.PointColors())
-    {
-      out.Spheres.colors.push_back(colors.Point(pid));
-    }
-    else if (colors.CellColors())
-    {
-      out.Spheres.colors.push_back(colors.CellColor(cell));
-    }
-  };
-  auto addCapsule = [&](vtkIdType a, vtkIdType b, vtkIdType cell)
-  {
-    out.Capsules.p0.push_back(point(a));
-    out.Capsules.p1.push_back(point(b));
-    if (colors.PointColors())
-    {
-      out.Capsules.colors0.push_back(colors.Point(a));
-      out.Capsules.colors1.push_back(colors.Point(b));
-    }
-    else if (colors.CellColors())
-    {
-      out.Capsules.colors0.push_back(colors.CellColor(cell));
-      out.Capsules.colors1.push_back(colors.CellColor(cell));
-    }
-  };
-
-  if (o.Representation == VTK_POINTS)
-  {
-    std::vector<bool> seen(static_cast<size_t>(np), false);
-    for (int k = 0; k < 4; ++k)
-    {
-      cells.ForEachValidCell(k, np, issues.InvalidCells,
-        [&](vtkIdType n, const vtkIdType* ids, vtkIdType cellId)
-        {
-          for (vtkIdType i = 0; i < n; ++i)
-          {
-            if (!seen[ids[i]])
-            {
-              seen[ids[i]] = true;
-              addSphere(ids[i], cellId);
-            }
-          }
-        });
-    }
-  }
-  else
-  {
-    cells.ForEachValidCell(CellArrays::Verts, np, issues.InvalidCells,
-      [&](vtkIdType n, const vtkIdType* ids, vtkIdType cellId)
-      {
-        for (vtkIdType i = 0; i < n; ++i)
-        {
-          addSphere(ids[i], cellId);
-        }
-      });
-  }
-  if (!out.Spheres.centers.empty())
-  {
-    if (sphereRadiusOk)
-    {
-      out.Spheres.radii.assign(1, sphereRadius);
-    }
-    else
-    {
-      out.Spheres = whitted::SphereSet();
-      issues.NoSphereRadius = true;
-    }
-  }
-
-  // Lines as tubes (capsules, so consecutive segments join seamlessly)
-  if (o.Representation != VTK_POINTS)
-  {
-    cells.ForEachValidCell(CellArrays::Lines, np, issues.InvalidCells,
-      [&](vtkIdType n, const vtkIdType* ids, vtkIdType cellId)
-      {
-        for (vtkIdType i = 0; i + 1 < n; ++i)
-        {
-          addCapsule(ids[i], ids[i + 1], cellId);
-        }
-      });
-  }
-  if (o.Representation == VTK_WIREFRAME)
-  {
-    // Edges of polygons and strips, each once
-    std::unordered_set<uint64_t> edges;
-    auto addEdge = [&](vtkIdType a, vtkIdType b, vtkIdType cell)
-    {
-      const uint64_t key =
-        (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint64_t>(std::max(a, b));
-      if (a != b && edges.insert(key).second)
-      {
-        addCapsule(a, b, cell);
-      }
-    };
-    cells.ForEachValidCell(CellArrays::Polys, np, issues.InvalidCells,
-      [&](vtkIdType n, const vtkIdType* ids, vtkIdType cellId)
-      {
-        for (vtkIdType i = 0; i < n; ++i)
-        {
-          addEdge(ids[i], ids[(i + 1) % n], cellId);
-        }
-      });
-    cells.ForEachValidCell(CellArrays::Strips, np, issues.InvalidCells,
-      [&](vtkIdType n, const vtkIdType* ids, vtkIdType cellId)
-      {
-        if (n >= 2)
-        {
-          addEdge(ids[0], ids[1], cellId);
-        }
-        for (vtkIdType j = 0; j + 2 < n; ++j)
-        {
-          addEdge(ids[j], ids[j + 2], cellId);
-          addEdge(ids[j + 1], ids[j + 2], cellId);
-        }
-      });
-  }
-  if (!out.Capsules.p0.empty())
-  {
-    if (tubeRadiusOk)
-    {
-      out.Capsules.radii.assign(1, tubeRadius);
-    }
-    else
-    {
-      out.Capsules = whitted::CapsuleSet();
-      issues.NoTubeRadius = true;
-    }
-  }
-
-  // Surfaces
-  if (o.Representation != VTK_SURFACE)
-  {
-    return;
-  }
-  TriangleList tl;
-  Triangulate(points, cells, tl, issues.InvalidCells);
-  if (tl.Tris.empty())
-  {
-    return;
-  }
-
-  // Normals, by VTK's rule: point normals unless flat, else cell normals, else facet normals.
-  // Arrays shorter than what they describe are ignored; bad vectors are left to the core (which
-  // falls back to the facet normal) but counted.
-  vtkDataArray* pointNormals = o.Flat ? nullptr : poly->GetPointData()->GetNormals();
-  if (pointNormals &&
-    (pointNormals->GetNumberOfTuples() < np || pointNormals->GetNumberOfComponents() != 3))
-  {
-    pointNormals = nullptr;
-    issues.ShortNormals = true;
-  }
-  vtkDataArray* cellNormals = pointNormals ? nullptr : poly->GetCellData()->GetNormals();
-  if (cellNormals &&
-    (cellNormals->GetNumberOfTuples() < cells.Total || cellNormals->GetNumberOfComponents() != 3))
-  {
-    cellNormals = nullptr;
-    issues.ShortNormals = true;
-  }
-  auto normal = [&](vtkDataArray* normals, vtkIdType i)
-  {
-    double n[3];
-    normals->GetTuple(i, n);
-    const Vec3f v(static_cast<float>(n[0]), static_cast<float>(n[1]), static_cast<float>(n[2]));
-    if (!whitted::isFinite(v) || !(glm::dot(v, v) > 0.0f))
-    {
-      ++issues.BadNormals;
-    }
-    return v;
-  };
-
-  vtkDataArray* tcoords = nullptr;
-  if (o.TCoords)
-  {
-    tcoords = poly->GetPointData()->GetTCoords();
-  }
-  else if (colors.Coordinates)
-  {
-    tcoords = colors.Coordinates;
-  }
-  if (tcoords &&
-    (tcoords->GetNumberOfTuples() < np || tcoords->GetNumberOfComponents() < 1 ||
-      tcoords->GetNumberOfComponents() > 3))
-  {
-    tcoords = nullptr;
-    issues.ShortTCoords = true;
-  }
-  auto tcoord = [&](vtkIdType i)
-  {
-    double t[3] = { 0.0, 0.0, 0.0 };
-    tcoords->GetTuple(i, t);
-    return Vec2f(static_cast<float>(t[0]),
-      tcoords->GetNumberOfComponents() > 1 ? static_cast<float>(t[1]) : 0.5f);
-  };
-  out.TCoords = tcoords != nullptr;
-
-  whitted::TriangleMesh& m = out.Mesh;
-  if (!cellNormals)
-  {
-    // Shared vertices
-    m.positions.resize(static_cast<size_t>(np));
-    for (vtkIdType i = 0; i < np; ++i)
-    {
-      m.positions[i] = point(i);
-    }
-    m.triangles = std::move(tl.Tris);
-    if (pointNormals)
-    {
-      m.normals.resize(static_cast<size_t>(np));
-      for (vtkIdType i = 0; i < np; ++i)
-      {
-        m.normals[i] = normal(pointNormals, i);
-      }
-    }
-    if (colors.PointColors())
-    {
-      m.vertexColors.resize(static_cast<size_t>(np));
-      for (vtkIdType i = 0; i < np; ++i)
-      {
-        m.vertexColors[i] = colors.Point(i);
-      }
-    }
-    if (tcoords)
-    {
-      m.texcoords.resize(static_cast<size_t>(np));
-      for (vtkIdType i = 0; i < np; ++i)
-      {
-        m.texcoords[i] = tcoord(i);
-      }
-    }
-  }
-  else
-  {
-    // Cell normals: the core interpolates per-vertex normals only, so each triangle gets its own
-    // three vertices carrying its cell's normal
-    const size_t nt = tl.Tris.size();
-    m.positions.resize(nt * 3);
-    m.normals.resize(nt * 3);
-    m.triangles.resize(nt);
-    if (colors.PointColors())
-    {
-      m.vertexColors.resize(nt * 3);
-    }
-    if (tcoords)
-    {
-      m.texcoords.resize(nt * 3);
-    }
-    vtkIdType lastCell = -1;
-    Vec3f n(0.0f);
-    for (size_t t = 0; t < nt; ++t)
-    {
-      if (tl.Cells[t] != lastCell)
-      {
-        lastCell = tl.Cells[t];
-        n = normal(cellNormals, lastCell);
-      }
-      for (int k = 0; k < 3; ++k)
-      {
-        const vtkIdType pid = tl.Tris[t][k];
-        const size_t v = t * 3 + k;
-        m.positions[v] = point(pid);
-        m.normals[v] = n;
-        if (colors.PointColors())
-        {
-          m.vertexColors[v] = colors.Point(pid);
-        }
-        if (tcoords)
-        {
-          m.texcoords[v] = tcoord(pid);
-        }
-      }
-      m.triangles[t] = glm::uvec3(t * 3, t * 3 + 1, t * 3 + 2);
-    }
-  }
-  if (colors.CellColors())
-  {
-    m.triangleColors.resize(tl.Cells.size());
-    for (size_t t = 0; t < tl.Cells.size(); ++t)
-    {
-      m.triangleColors[t] = colors.CellColor(tl.Cells[t]);
-    }
+    AddTriangles(in, out, issues);
   }
 }

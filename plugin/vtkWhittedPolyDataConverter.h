@@ -15,7 +15,8 @@
  * derivatives).
  * - Colours: the mapper's own MapScalars (scalar visibility, scalar mode, array, lookup table and
  * range, direct colours); point or cell colours decided by the scalar mode as the OpenGL mapper
- * does; with InterpolateScalarsBeforeMapping the mapper's colour texture and texture coordinates.
+ * does; with InterpolateScalarsBeforeMapping the mapper's colour texture and colour-map
+ * coordinates.
  * - Vertex cells become spheres, line cells tubes (capsules), of radius PointSize (LineWidth) times
  * the input's diagonal / 1000 (VTK's OSPRay pass makes the same choice). In points representation
  * every point used by a cell is a sphere; in wireframe representation every polygon / strip edge
@@ -98,10 +99,12 @@ public:
     whitted::TriangleMesh Mesh;
     whitted::SphereSet Spheres;
     whitted::CapsuleSet Capsules;
-    bool ScalarColors = false;    ///< Primitives carry colours mapped from scalars.
-    bool HasColorTexture = false; ///< InterpolateScalarsBeforeMapping: ColorTexture + texcoords.
+    bool ScalarColors = false; ///< Primitives carry colours mapped from scalars.
+    /// InterpolateScalarsBeforeMapping: ColorTexture is the mapper's colour map and the triangles
+    /// carry coordinates into it (Mesh.colorCoords; Mesh.colorMap is set when it is stored).
+    bool HasColorTexture = false;
     whitted::Texture ColorTexture;
-    bool TCoords = false; ///< The triangles carry texture coordinates.
+    bool TCoords = false; ///< The triangles carry texture coordinates (for the actor's texture).
     Problems Issues;      ///< Bad input found (and left out) while converting.
     /// Positions, centres and end points are relative to this point of the polydata's coordinates
     /// (place the objects with a translation by Origin). Zero unless the data lies far from its

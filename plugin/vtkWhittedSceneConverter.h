@@ -3,19 +3,24 @@
  * @brief   internal: turns a vtkRenderer's props, lights and background into the tracer's scene
  *
  * Private to the Whitted module (not wrapped, not installed). One converter belongs to one
- * vtkWhittedPass and keeps a whitted::Scene alive across frames so that only what changed is
- * converted again:
+ * vtkWhittedPass per renderer and keeps a whitted::Scene alive across frames so that only what
+ * changed is converted again. This class is the prop walk: which props are traced (every visible
+ * actor, also those the frustum culler dropped; assembly parts with their concatenated matrices;
+ * the blocks of a composite input) and which are left to OpenGL, and the instances that place
+ * converted geometry with each actor's matrix. Each VTK concept has its own file pair:
  *
- * - Geometry is cached per (mapper, input data object or composite block, geometry-relevant
- *   property settings) and converted again only when the mapper, its lookup table or the input
- *   changed (MTime). Actors that share a mapper share one object (instancing). A conversion that
- *   changes only attributes (colours after a lookup-table edit) keeps the object's BVH.
- * - Colour maps (InterpolateScalarsBeforeMapping) and actor textures are replaced in place when
- *   they change and freed when no longer used (texture memory does not grow with edits).
- * - Each traced actor (or block) is an instance of that object with the actor's matrix; moving an
- *   actor changes only the instance transform (the top-level BVH, never an object BVH).
- * - Materials and lights are cheap and are rebuilt every frame from vtkProperty / vtkLight.
+ * - vtkWhittedGeometryCache: geometry per (mapper, input or block, geometry-relevant property
+ *   settings), converted by vtkWhittedPolyDataConverter only when the mapper, its lookup table or
+ *   the input changed (MTime). Actors that share a mapper share one object (instancing).
+ * - vtkWhittedTextureCache: actor, background and environment textures and colour maps, replaced
+ *   in place when they change and freed when no longer used.
+ * - vtkWhittedMaterials (vtkProperty + Whitted keys), vtkWhittedLights (vtkLight),
+ *   vtkWhittedEnvironment (background, skybox, environment texture): cheap, rebuilt every frame.
+ * - vtkWhittedWarnings: every warning, said once per prop. vtkWhittedMatrix.h: vtkMatrix4x4 ->
+ *   whitted::Mat4.
  *
+ * Each traced actor (or block) is an instance of its geometry's objects with the actor's matrix;
+ * moving an actor changes only the instance transform (the top-level BVH, never an object BVH).
  * Props the tracer does not handle are returned so that the pass can draw them with VTK's OpenGL
  * path: 2D actors, volumes, image slices, actors whose mapper is not a vtkPolyDataMapper, and
  * actors drawn as plain points, lines or wireframe (no RenderPointsAsSpheres / RenderLinesAsTubes).
@@ -51,9 +56,9 @@ public:
     /// Props that are the environment (vtkSkybox): drawn by OpenGL before the traced image is
     /// composited over them, so translucent pixels show them behind; reflections sample them.
     std::vector<vtkProp*> BackgroundProps;
-    int GeometriesConverted = 0;       ///< Geometries (inputs or blocks) converted in this update.
-    int TracedActors = 0;              ///< Leaf actors that became instances.
-    bool HeadlightShading = false;     ///< VTK light complexity 1 (one headlight) applies.
+    int GeometriesConverted = 0;   ///< Geometries (inputs or blocks) converted in this update.
+    int TracedActors = 0;          ///< Leaf actors that became instances.
+    bool HeadlightShading = false; ///< VTK light complexity 1 (one headlight) applies.
   };
 
   /**

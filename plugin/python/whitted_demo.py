@@ -29,12 +29,12 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", default="whitted.png", help="PNG to write (default whitted.png)")
     ap.add_argument("--size", type=parse_size, default=(800, 600), help="WxH (default 800x600)")
-    ap.add_argument("--spp", type=int, default=1, help="samples per pixel (default 1)")
-    ap.add_argument("--adaptive", action="store_true", help="adaptive sampling")
-    ap.add_argument("--depth", type=int, default=5, help="max secondary depth (default 5)")
-    ap.add_argument("--threshold", type=float, default=1.0 / 255.0,
-                    help="contribution threshold (default 1/255)")
-    ap.add_argument("--threads", type=int, default=0, help="threads, 0 = all cores (default)")
+    # The pass's settings; left out, they keep the pass's defaults (plugin/vtkWhittedSettings.h)
+    ap.add_argument("--spp", type=int, help="samples per pixel (SamplesPerPixel)")
+    ap.add_argument("--adaptive", action="store_true", help="adaptive sampling (AdaptiveSampling)")
+    ap.add_argument("--depth", type=int, help="max secondary depth (MaxDepth)")
+    ap.add_argument("--threshold", type=float, help="contribution threshold (ContributionThreshold)")
+    ap.add_argument("--threads", type=int, help="threads, 0 = all cores (NumberOfThreads)")
     ap.add_argument("--no-shadows", action="store_true")
     ap.add_argument("--no-reflections", action="store_true")
     ap.add_argument("--no-refractions", action="store_true")
@@ -66,15 +66,17 @@ def main(argv=None):
     classic_scene(renderer, args.resolution)
 
     whitted_pass = vtkWhittedPass()
-    whitted_pass.SetSamplesPerPixel(args.spp)
-    whitted_pass.SetAdaptiveSampling(args.adaptive)
-    whitted_pass.SetMaxDepth(args.depth)
-    whitted_pass.SetContributionThreshold(args.threshold)
-    whitted_pass.SetNumberOfThreads(args.threads)
-    whitted_pass.SetShadows(not args.no_shadows)
-    whitted_pass.SetReflections(not args.no_reflections)
-    whitted_pass.SetRefractions(not args.no_refractions)
-    whitted_pass.SetFresnel(args.fresnel)
+    for value, setter in ((args.spp, whitted_pass.SetSamplesPerPixel), (args.depth, whitted_pass.SetMaxDepth),
+                          (args.threshold, whitted_pass.SetContributionThreshold),
+                          (args.threads, whitted_pass.SetNumberOfThreads)):
+        if value is not None:
+            setter(value)
+    for flag, setter in ((args.adaptive, whitted_pass.AdaptiveSamplingOn),
+                         (args.no_shadows, whitted_pass.ShadowsOff),
+                         (args.no_reflections, whitted_pass.ReflectionsOff),
+                         (args.no_refractions, whitted_pass.RefractionsOff), (args.fresnel, whitted_pass.FresnelOn)):
+        if flag:
+            setter()
     renderer.SetPass(whitted_pass)
     for obj in (whitted_pass, window, renderer):
         obj.AddObserver(vtkCommand.ErrorEvent, on_error)
@@ -103,13 +105,14 @@ def main(argv=None):
 
     w, h = args.size
     problems = list(errors)
-    if whitted_pass.GetLastPrimaryRays() != w * h * max(1, args.spp) and not args.adaptive:
-        problems.append("expected %d primary rays, traced %d"
-                        % (w * h * args.spp, whitted_pass.GetLastPrimaryRays()))
-    if whitted_pass.GetLastNumberOfTracedActors() != 3:
+    stats = whitted_pass.GetLastFrameStatistics()
+    spp = whitted_pass.GetSamplesPerPixel()
+    if stats.GetPrimaryRays() != w * h * spp and not args.adaptive:
+        problems.append("expected %d primary rays, traced %d" % (w * h * spp, stats.GetPrimaryRays()))
+    if stats.GetNumberOfTracedActors() != 3:
         problems.append("expected 3 traced actors, got %d"
-                        % whitted_pass.GetLastNumberOfTracedActors())
-    if whitted_pass.GetLastFrameAborted():
+                        % stats.GetNumberOfTracedActors())
+    if stats.GetAborted():
         problems.append("the frame was aborted")
     if not os.path.isfile(args.out) or os.path.getsize(args.out) == 0:
         problems.append("could not write " + args.out)

@@ -56,9 +56,10 @@ def time_frames(window, renderer, frames, whitted_pass=None):
     window.Render()
     first = time.perf_counter() - t0
     if whitted_pass is not None:
+        stats = whitted_pass.GetLastFrameStatistics()
         print("    first frame: conversion %.1f ms, BVH build %.1f ms, trace %.1f ms, composite %.1f ms"
-              % (whitted_pass.GetLastConversionTime() * 1e3, whitted_pass.GetLastBuildTime() * 1e3,
-                 whitted_pass.GetLastTraceTime() * 1e3, whitted_pass.GetLastCompositeTime() * 1e3))
+              % (stats.GetConversionTime() * 1e3, stats.GetBuildTime() * 1e3,
+                 stats.GetTraceTime() * 1e3, stats.GetCompositeTime() * 1e3))
     times = []
     for i in range(frames):
         camera.Azimuth(0.5 if i % 2 == 0 else -0.5)  # a camera change: nothing but the image is redone

@@ -1,10 +1,8 @@
 """A long still frame of the Whitted view reports progress through ParaView's progress handler (the object
 the GUI's progress bar listens to, and that relays a server's progress to its client).
 
-    pvbatch test_progress.py --plugin P [--pass-reports-progress 0|1]
+    pvbatch test_progress.py --plugin P
     python3 test_progress.py --plugin P --connect 127.0.0.1:PORT      (progress of the server's frame)
-
-With --pass-reports-progress 0 (the pass in plugin/ fires no ProgressEvent) the test is skipped (exit 77).
 """
 import argparse
 import os
@@ -15,12 +13,8 @@ import whitted_pvtest as wt  # noqa: E402
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--plugin", required=True)
-ap.add_argument("--pass-reports-progress", type=int, default=1)
 ap.add_argument("--connect", help="host:port of a pvserver (render there, receive its progress)")
 args = ap.parse_args()
-if not args.pass_reports_progress:
-    print("SKIPPED: vtkWhittedPass does not fire ProgressEvent yet")
-    sys.exit(77)
 
 from paraview import servermanager as sm  # noqa: E402
 from paraview.simple import Connect, GetSettingsProxy, Render  # noqa: E402

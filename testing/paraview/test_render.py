@@ -33,7 +33,7 @@ ap.add_argument("--connect", help="host:port of a pvserver")
 ap.add_argument("--render-on", choices=["server", "client"], default="server")
 ap.add_argument("--expect-ranks", type=int, default=0)
 ap.add_argument("--expect-split", type=int, default=0,
-                help="the rendering rank 0 traced every N-th tile (needs a pass with SetImageSplit)")
+                help="the rendering rank 0 traced every N-th tile")
 ap.add_argument("--max-bad", type=float, default=0.002, help="allowed fraction of differing pixels")
 args = ap.parse_args()
 

@@ -15,32 +15,13 @@
 #include "vtkPVWhittedPass.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkWhittedFrameStatistics.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 
 vtkStandardNewMacro(vtkPVWhittedView);
-
-namespace
-{
-/**
- * A render pass that draws nothing: ranks that contribute no pixels to a parallel frame run it
- * inside IceT's draw callback, which has already cleared their image to depth 1 / alpha 0.
- */
-class vtkWhittedIdlePass : public vtkRenderPass
-{
-public:
-  static vtkWhittedIdlePass* New();
-  vtkTypeMacro(vtkWhittedIdlePass, vtkRenderPass);
-  void Render(const vtkRenderState*) override { this->NumberOfRenderedProps = 0; }
-
-protected:
-  vtkWhittedIdlePass() = default;
-  ~vtkWhittedIdlePass() override = default;
-};
-vtkStandardNewMacro(vtkWhittedIdlePass);
-}
 
 //------------------------------------------------------------------------------
 vtkPVWhittedView::vtkPVWhittedView()
@@ -50,7 +31,6 @@ vtkPVWhittedView::vtkPVWhittedView()
   // would rasterise.
   this->SynchronizedRenderers->SetRenderPass(this->WhittedPass);
   this->InstalledPass = this->WhittedPass;
-  this->IdlePass.TakeReference(vtkWhittedIdlePass::New());
 
   // Level of detail is never used (see SetLODRenderingThreshold), nor FXAA (see SetUseFXAA).
   this->Superclass::SetLODRenderingThreshold(VTK_DOUBLE_MAX);
@@ -155,6 +135,22 @@ bool vtkPVWhittedView::GetFresnel()
 {
   return this->WhittedPass->GetFresnel();
 }
+void vtkPVWhittedView::SetInteractiveMaxDepth(int value)
+{
+  this->WhittedPass->SetInteractiveMaxDepth(value);
+}
+int vtkPVWhittedView::GetInteractiveMaxDepth()
+{
+  return this->WhittedPass->GetInteractiveMaxDepth();
+}
+void vtkPVWhittedView::SetInteractiveShadows(bool value)
+{
+  this->WhittedPass->SetInteractiveShadows(value);
+}
+bool vtkPVWhittedView::GetInteractiveShadows()
+{
+  return this->WhittedPass->GetInteractiveShadows();
+}
 
 vtkWhittedPass* vtkPVWhittedView::GetWhittedPass()
 {
@@ -166,11 +162,11 @@ const char* vtkPVWhittedView::GetLastFrameReport()
 }
 int vtkPVWhittedView::GetLastGeometriesConverted()
 {
-  return this->WhittedPass->GetLastNumberOfGeometriesConverted();
+  return this->WhittedPass->GetLastFrameStatistics()->GetNumberOfGeometriesConverted();
 }
 int vtkPVWhittedView::GetLastObjectsRebuilt()
 {
-  return this->WhittedPass->GetLastNumberOfObjectsRebuilt();
+  return this->WhittedPass->GetLastFrameStatistics()->GetNumberOfObjectsRebuilt();
 }
 
 //------------------------------------------------------------------------------
@@ -290,25 +286,14 @@ void vtkPVWhittedView::Render(bool interactive, bool skip_rendering)
   const bool split = this->GeometryReplicated && distributed && ranks > 1;
   this->LastImageSplit[0] = split ? ranks : 1;
   this->LastImageSplit[1] = split ? controller->GetLocalProcessId() : 0;
-#ifdef WHITTED_PASS_HAS_IMAGE_SPLIT
   pass->SetImageSplit(this->LastImageSplit[0], this->LastImageSplit[1]);
-#endif
 
-  // Interactive quality: 1 sample, fewer bounces, optionally no shadows, reduced resolution. The
-  // user's settings are restored right after the frame, so still frames (and anything else that
-  // renders the window) get full quality.
-  const int maxDepth = pass->GetMaxDepth();
-  const int samples = pass->GetSamplesPerPixel();
-  const bool adaptive = pass->GetAdaptiveSampling();
-  const bool shadows = pass->GetShadows();
+  // Quality of this frame: interactive frames use the pass's interactive mode at a reduced
+  // resolution, still frames full quality. Every frame sets it, and the pass's own settings are
+  // never touched, so nothing is restored afterwards.
   int reduction = 1;
   if (interactive)
   {
-    pass->SetMaxDepth(std::min(maxDepth, this->InteractiveMaxDepth));
-    pass->SetSamplesPerPixel(1);
-    pass->SetAdaptiveSampling(false);
-    pass->SetShadows(shadows && this->InteractiveShadows);
-#ifdef WHITTED_PASS_HAS_IMAGE_REDUCTION
     reduction = this->ChooseImageReduction();
     if (split)
     {
@@ -317,27 +302,16 @@ void vtkPVWhittedView::Render(bool interactive, bool skip_rendering)
       controller->AllReduce(&reduction, &agreed, 1, vtkCommunicator::MAX_OP);
       reduction = agreed;
     }
-    pass->SetImageReductionFactor(reduction);
-#endif
   }
+  pass->SetInteractive(interactive);
+  pass->SetInteractiveImageReduction(reduction);
 
   // Which pass this process runs. A process that draws no geometry in this frame (the client while
   // the server renders: ParaView's culler hands the renderer no props) runs ParaView's default
-  // pass, not the tracer: no rays, no upload. With a pass that cannot split the image, every rank
-  // would trace the whole replicated scene and IceT's ordered blending would add translucent pixels
-  // once per rank, so rank 0 traces everything and the other ranks contribute nothing (correct, no
-  // speed-up). Otherwise: the tracer.
-  const bool drawsGeometry = this->IsProcessRenderingGeometriesForCompositing(distributed);
-#ifdef WHITTED_PASS_HAS_IMAGE_SPLIT
-  const bool idle = false;
-#else
-  const bool idle = split && controller->GetLocalProcessId() != 0;
-  this->LastImageSplit[0] = idle ? 0 : 1;
-  this->LastImageSplit[1] = 0;
-#endif
-  vtkRenderPass* wanted = !drawsGeometry ? nullptr
-    : idle                               ? this->IdlePass.Get()
-                                         : static_cast<vtkRenderPass*>(this->WhittedPass.Get());
+  // pass, not the tracer: no rays, no upload.
+  vtkRenderPass* wanted = this->IsProcessRenderingGeometriesForCompositing(distributed)
+    ? this->WhittedPass.Get()
+    : nullptr;
   if (wanted != this->InstalledPass)
   {
     this->SynchronizedRenderers->SetRenderPass(wanted);
@@ -348,17 +322,6 @@ void vtkPVWhittedView::Render(bool interactive, bool skip_rendering)
   this->Superclass::Render(interactive, skip_rendering);
   const double seconds =
     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-  if (interactive)
-  {
-    pass->SetMaxDepth(maxDepth);
-    pass->SetSamplesPerPixel(samples);
-    pass->SetAdaptiveSampling(adaptive);
-    pass->SetShadows(shadows);
-#ifdef WHITTED_PASS_HAS_IMAGE_REDUCTION
-    pass->SetImageReductionFactor(1);
-#endif
-  }
   if (skip_rendering)
   {
     return;
@@ -367,13 +330,13 @@ void vtkPVWhittedView::Render(bool interactive, bool skip_rendering)
   // Bookkeeping for the next interactive frame and for diagnostics (only if the tracer ran here).
   if (this->TracedFrameCount > framesBefore)
   {
+    vtkWhittedFrameStatistics* stats = pass->GetLastFrameStatistics();
     this->LastRenderTime = seconds;
     // What does not scale with the traced pixels: compositing, OpenGL stages, IceT, swap
     // (conversion and BVH builds happen only when data changes and are left out).
-    this->LastFixedTime = std::max(0.0,
-      seconds - pass->GetLastTraceTime() - pass->GetLastBuildTime() -
-        pass->GetLastConversionTime());
-    const double fullFrameCost = pass->GetLastTraceTime() * reduction * reduction;
+    this->LastFixedTime = std::max(
+      0.0, seconds - stats->GetTraceTime() - stats->GetBuildTime() - stats->GetConversionTime());
+    const double fullFrameCost = stats->GetTraceTime() * reduction * reduction;
     if (interactive && this->LastFrameInteractive && this->InteractiveFullFrameCost > 0.0)
     {
       // Smooth over frames: the view direction changes what is hit and how often rays bounce.
@@ -426,8 +389,6 @@ void vtkPVWhittedView::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "InteractiveFrameTime: " << this->InteractiveFrameTime << "\n";
   os << indent << "MaximumImageReduction: " << this->MaximumImageReduction << "\n";
-  os << indent << "InteractiveMaxDepth: " << this->InteractiveMaxDepth << "\n";
-  os << indent << "InteractiveShadows: " << this->InteractiveShadows << "\n";
   os << indent << "ReplicateGeometry: " << this->ReplicateGeometry << "\n";
   os << indent << "TracedFrameCount: " << this->TracedFrameCount << "\n";
   os << indent << "LastRenderTime: " << this->LastRenderTime << "\n";

@@ -10,10 +10,11 @@
  *
  * What the view adds to a plain render view:
  * - The pass's settings (MaxDepth, SamplesPerPixel, ...), each forwarded in one line.
- * - Interactive frames: while the camera is dragged the pass traces 1 sample per pixel, with at
- * most InteractiveMaxDepth bounces, and (when the pass supports it) at a reduced resolution picked
- * from the measured cost of earlier frames so that a frame takes about InteractiveFrameTime. The
- * full-quality frame follows when interaction stops (ParaView's still render).
+ * - Interactive frames: while the camera is dragged the pass traces in its interactive mode (1
+ * sample per pixel, at most InteractiveMaxDepth bounces) at a reduced resolution picked from the
+ * measured cost of earlier frames so that a frame takes about InteractiveFrameTime. Each frame sets
+ * the mode, so the full-quality frame follows when interaction stops (ParaView's still render) and
+ * no setting is ever changed and restored.
  * - No level-of-detail geometry: ray tracing cost grows with log(triangles), so ParaView's
  * decimated LOD would save little and cost a scene conversion and a BVH build on every switch. The
  * LOD threshold is pinned to "never" and the full geometry (converted once, cached by the pass) is
@@ -21,9 +22,8 @@
  * - Parallel (mpirun pvbatch / pvserver): with ReplicateGeometry on (default) every
  * representation's geometry is delivered to every rank, so shadows and reflections see the whole
  * scene; each rank traces an interleaved share of the pixels (vtkWhittedPass::SetImageSplit) and
- * IceT's depth or ordered-blend compositing assembles the frame. With a pass that cannot split the
- * image, rank 0 traces the whole image and the other ranks draw nothing (correct, no speed-up).
- * The memory cost is one full copy of the rendered geometry per rank (see README).
+ * IceT's depth or ordered-blend compositing assembles the frame. The memory cost is one full copy
+ * of the rendered geometry per rank (see README).
  * - Progress: the pass's ProgressEvent is forwarded to ParaView's progress handler, so long still
  * frames move the GUI's progress bar (and are reported to a remote client).
  * - No work where no geometry is: a process that renders no geometry for this frame (the client
@@ -40,7 +40,7 @@
 #include "WhittedParaViewModule.h" // for export macro
 #include "vtkNew.h"                // for vtkNew
 #include "vtkPVRenderView.h"
-#include "vtkSmartPointer.h" // for vtkSmartPointer
+#include "vtkWhittedSettings.h" // for the settings' defaults and ranges
 
 #include <string> // for std::string
 
@@ -58,10 +58,10 @@ public:
 
   ///@{
   /**
-   * Settings of the pass for full-quality (still) frames; see vtkWhittedPass for their meaning and
-   * defaults (MaxDepth 5, SamplesPerPixel 1, AdaptiveSampling off, Shadows/Reflections/Refractions
-   * on, ContributionThreshold 1/255, NumberOfThreads 0 = all cores, Fresnel off). Shadows and
-   * SamplesPerPixel replace the OSPRay settings of the same name of a plain render view.
+   * Settings of the pass, each forwarded in one line; their meaning, default and range are in the
+   * settings table (vtkWhittedSettings.h). Shadows and SamplesPerPixel replace the OSPRay settings
+   * of the same name of a plain render view. InteractiveMaxDepth and InteractiveShadows apply to
+   * the frames traced while the camera moves (see vtkWhittedPass::SetInteractive).
    */
   void SetMaxDepth(int value);
   int GetMaxDepth();
@@ -75,32 +75,31 @@ public:
   bool GetReflections();
   void SetRefractions(bool value);
   bool GetRefractions();
+  void SetFresnel(bool value);
+  bool GetFresnel();
   void SetContributionThreshold(double value);
   double GetContributionThreshold();
   void SetNumberOfThreads(int value);
   int GetNumberOfThreads();
-  void SetFresnel(bool value);
-  bool GetFresnel();
+  void SetInteractiveMaxDepth(int value);
+  int GetInteractiveMaxDepth();
+  void SetInteractiveShadows(bool value);
+  bool GetInteractiveShadows();
   ///@}
 
   ///@{
   /**
-   * Interactive frames (camera being dragged). InteractiveFrameTime: wall-clock seconds an
-   * interactive frame should take; the image is traced at 1/f of the resolution with f
-   * = 1..MaximumImageReduction chosen from the measured cost of earlier frames (only if the pass
-   * supports reduced resolution). Default 0.1 s, at most 8x. InteractiveMaxDepth: cap on bounces
-   * while interacting, default 1. InteractiveShadows: trace shadow rays while interacting (if
-   * Shadows is on), default on. Interactive frames always use 1 sample per pixel and no adaptive
-   * sampling.
+   * Interactive frames (camera being dragged) are traced at the pass's interactive quality and at
+   * 1/f of the resolution, with f = 1..MaximumImageReduction chosen from the measured cost of
+   * earlier frames so that a frame takes about InteractiveFrameTime (wall-clock seconds). Defaults
+   * and ranges: vtkWhittedSettings.h.
    */
-  vtkSetClampMacro(InteractiveFrameTime, double, 0.005, 10.0);
+  vtkSetClampMacro(InteractiveFrameTime, double, vtkWhittedSettings::InteractiveFrameTime.Minimum,
+    vtkWhittedSettings::InteractiveFrameTime.Maximum);
   vtkGetMacro(InteractiveFrameTime, double);
-  vtkSetClampMacro(MaximumImageReduction, int, 1, 16);
+  vtkSetClampMacro(MaximumImageReduction, int, vtkWhittedSettings::MaximumImageReduction.Minimum,
+    vtkWhittedSettings::MaximumImageReduction.Maximum);
   vtkGetMacro(MaximumImageReduction, int);
-  vtkSetClampMacro(InteractiveMaxDepth, int, 0, 64);
-  vtkGetMacro(InteractiveMaxDepth, int);
-  vtkSetMacro(InteractiveShadows, bool);
-  vtkGetMacro(InteractiveShadows, bool);
   ///@}
 
   ///@{
@@ -108,8 +107,8 @@ public:
    * Parallel rendering: deliver every representation's geometry to every rank so that each rank
    * traces the full scene (correct shadows, reflections and refractions across ranks) and split the
    * image between ranks. Off: each rank traces only its own data, like a raster view (secondary
-   * rays miss the other ranks' geometry). Has no effect with a single rendering process. Default
-   * on.
+   * rays miss the other ranks' geometry). Has no effect with a single rendering process. Default:
+   * vtkWhittedSettings.h.
    */
   void SetReplicateGeometry(bool value);
   vtkGetMacro(ReplicateGeometry, bool);
@@ -175,15 +174,11 @@ protected:
   vtkNew<vtkPVWhittedPass> WhittedPass;
   vtkNew<vtkAlgorithm> ProgressReporter;
 
-  double InteractiveFrameTime = 0.1;
-  int MaximumImageReduction = 8;
-  int InteractiveMaxDepth = 1;
-  bool InteractiveShadows = true;
-  bool ReplicateGeometry = true;
+  double InteractiveFrameTime = vtkWhittedSettings::InteractiveFrameTime.Default;
+  int MaximumImageReduction = vtkWhittedSettings::MaximumImageReduction.Default;
+  bool ReplicateGeometry = vtkWhittedSettings::ReplicateGeometry.Default;
 
-  // Passes: one that draws nothing (ranks without a share of the image), and the one installed in
-  // the synchronized renderers (the tracer, ParaView's default pass, or the idle pass)
-  vtkSmartPointer<vtkRenderPass> IdlePass;
+  // The pass installed in the synchronized renderers: the tracer, or null (ParaView's default)
   vtkRenderPass* InstalledPass = nullptr;
   // Decision of the last Update(), identical on all processes
   bool GeometryReplicated = false;

@@ -33,6 +33,7 @@ struct Frame
 
 Frame Grab(vtkRenderWindow* win, vtkWhittedPass* pass)
 {
+  vtkWhittedFrameStatistics* stats = pass->GetLastFrameStatistics();
   Frame f;
   f.Pixels = whittedtest::GrabPixels(win);
   vtkNew<vtkFloatArray> rgba, depth;
@@ -105,6 +106,7 @@ int TestWhittedAbortRerender(int, char*[])
 
   // References: one thread, never interrupted, for the two camera positions used below
   vtkNew<vtkWhittedPass> refPass;
+  vtkWhittedFrameStatistics* refStats = refPass->GetLastFrameStatistics();
   refPass->SetNumberOfThreads(1);
   ren->SetPass(refPass);
   win->Render();
@@ -121,8 +123,7 @@ int TestWhittedAbortRerender(int, char*[])
   const Frame refMoved = Grab(win, refPass);
   cam->SetPosition(home);
   cam->SetClippingRange(range);
-  bool ok =
-    !refPass->GetLastFrameAborted() && refPass->GetLastPrimaryRays() == vtkTypeUInt64(w * h);
+  bool ok = !refStats->GetAborted() && refStats->GetPrimaryRays() == vtkTypeUInt64(w * h);
 
   AbortState st;
   st.Window = win;
@@ -138,6 +139,7 @@ int TestWhittedAbortRerender(int, char*[])
       // mode 0: progress observer aborts at 40 %; 1: abort-check observer aborts at its first
       // check; 2: camera moved, then progress observer aborts at 60 %
       vtkNew<vtkWhittedPass> pass;
+      vtkWhittedFrameStatistics* stats = pass->GetLastFrameStatistics();
       pass->SetNumberOfThreads(threads);
       vtkNew<vtkCallbackCommand> progressCb;
       progressCb->SetCallback(OnProgress);
@@ -162,8 +164,8 @@ int TestWhittedAbortRerender(int, char*[])
           std::chrono::milliseconds(250)); // let the throttle allow a check
       }
       win->Render();
-      const bool aborted = pass->GetLastFrameAborted();
-      const vtkTypeUInt64 partial = pass->GetLastPrimaryRays();
+      const bool aborted = stats->GetAborted();
+      const vtkTypeUInt64 partial = stats->GetPrimaryRays();
       const double fraction = st.LastFraction;
       const Frame cut = Grab(win, pass);
       const int cutDiff = DifferingPixels(expected->Pixels, cut.Pixels, 0);
@@ -179,13 +181,13 @@ int TestWhittedAbortRerender(int, char*[])
                   "primary rays, %d pixels differ); re-render: aborted %d, %d pixels differ, "
                   "float colour %s, depth %s, %d geometries converted, %d BVHs rebuilt\n",
         threads, mode, int(aborted), 100.0 * fraction, static_cast<unsigned long long>(partial),
-        w * h, cutDiff, int(pass->GetLastFrameAborted()), diff,
-        colorSame ? "bit-identical" : "DIFFERENT", depthSame ? "bit-identical" : "DIFFERENT",
-        pass->GetLastNumberOfGeometriesConverted(), pass->GetLastNumberOfObjectsRebuilt());
+        w * h, cutDiff, int(stats->GetAborted()), diff, colorSame ? "bit-identical" : "DIFFERENT",
+        depthSame ? "bit-identical" : "DIFFERENT", stats->GetNumberOfGeometriesConverted(),
+        stats->GetNumberOfObjectsRebuilt());
       const bool caseOk = aborted && partial > 0 && partial < vtkTypeUInt64(w * h) && cutDiff > 0 &&
-        !pass->GetLastFrameAborted() && pass->GetLastPrimaryRays() == vtkTypeUInt64(w * h) &&
-        diff == 0 && colorSame && depthSame && pass->GetLastNumberOfGeometriesConverted() == 0 &&
-        pass->GetLastNumberOfObjectsRebuilt() == 0;
+        !stats->GetAborted() && stats->GetPrimaryRays() == vtkTypeUInt64(w * h) && diff == 0 &&
+        colorSame && depthSame && stats->GetNumberOfGeometriesConverted() == 0 &&
+        stats->GetNumberOfObjectsRebuilt() == 0;
       if (!caseOk)
       {
         std::printf("[abort] threads %d, mode %d: FAILED\n", threads, mode);

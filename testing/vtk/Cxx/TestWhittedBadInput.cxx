@@ -75,7 +75,7 @@ int TestWhittedBadInput(int, char*[])
   win->Render();
   win->Render();
   // Two warnings over three frames: the NaN/Inf points of a, the Whitted keys of b
-  bool ok = warnings == 2 && pass->GetLastPrimaryRays() == 100u * 80u;
+  bool ok = warnings == 2 && pass->GetLastFrameStatistics()->GetPrimaryRays() == 100u * 80u;
   ok &=
     report.find(" 0 invalid skipped") == std::string::npos; // the NaN/Inf triangles were counted
   if (!ok)

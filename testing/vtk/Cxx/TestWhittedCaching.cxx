@@ -15,13 +15,13 @@ namespace
 bool Check(vtkRenderWindow* win, vtkWhittedPass* pass, const char* what, int converted, int rebuilt,
   bool top)
 {
+  vtkWhittedFrameStatistics* stats = pass->GetLastFrameStatistics();
   win->Render();
-  const bool ok = pass->GetLastNumberOfGeometriesConverted() == converted &&
-    pass->GetLastNumberOfObjectsRebuilt() == rebuilt && pass->GetLastTopLevelRebuilt() == top;
+  const bool ok = stats->GetNumberOfGeometriesConverted() == converted &&
+    stats->GetNumberOfObjectsRebuilt() == rebuilt && stats->GetTopLevelRebuilt() == top;
   std::printf("%-40s converted %d (want %d), object BVHs %d (want %d), top level %s (want %s)%s\n",
-    what, pass->GetLastNumberOfGeometriesConverted(), converted,
-    pass->GetLastNumberOfObjectsRebuilt(), rebuilt,
-    pass->GetLastTopLevelRebuilt() ? "rebuilt" : "kept", top ? "rebuilt" : "kept",
+    what, stats->GetNumberOfGeometriesConverted(), converted, stats->GetNumberOfObjectsRebuilt(),
+    rebuilt, stats->GetTopLevelRebuilt() ? "rebuilt" : "kept", top ? "rebuilt" : "kept",
     ok ? "" : "   <-- FAIL");
   return ok;
 }
@@ -54,6 +54,7 @@ int TestWhittedCaching(int, char*[])
   ren->GetActiveCamera()->SetFocalPoint(0, 0.5, 0);
 
   vtkNew<vtkWhittedPass> pass;
+  vtkWhittedFrameStatistics* stats = pass->GetLastFrameStatistics();
   ren->SetPass(pass);
 
   bool ok = true;
@@ -91,13 +92,13 @@ int TestWhittedCaching(int, char*[])
 
   // An actor outside the view frustum (VTK's culler drops it from the render state) is still
   // traced: it casts shadows and shows in mirrors
-  const int traced = pass->GetLastNumberOfTracedActors();
+  const int traced = stats->GetNumberOfTracedActors();
   a->SetPosition(0, 0, 40); // behind the camera
   ok &= Check(win, pass, "actor moved out of view", 0, 0, true);
-  if (pass->GetLastNumberOfTracedActors() != traced)
+  if (stats->GetNumberOfTracedActors() != traced)
   {
     std::printf("an actor outside the view frustum was dropped (%d traced, want %d)   <-- FAIL\n",
-      pass->GetLastNumberOfTracedActors(), traced);
+      stats->GetNumberOfTracedActors(), traced);
     ok = false;
   }
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;

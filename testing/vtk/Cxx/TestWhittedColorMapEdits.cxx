@@ -20,8 +20,8 @@
 namespace
 {
 // Window pixel (8-bit RGB) under the world point p.
-std::array<int, 3> PixelAt(vtkRenderer* ren, const std::vector<unsigned char>& pixels,
-  const int size[2], const double p[3])
+std::array<int, 3> PixelAt(
+  vtkRenderer* ren, const std::vector<unsigned char>& pixels, const int size[2], const double p[3])
 {
   ren->SetWorldPoint(p[0], p[1], p[2], 1.0);
   ren->WorldToDisplay();
@@ -139,13 +139,14 @@ int TestWhittedColorMapEdits(int, char*[])
   ren->SetBackground(0.1, 0.1, 0.1);
   LookAt(ren, { 0, 0, 6 }, { 0, 0, 0 }, 40);
   vtkNew<vtkWhittedPass> pass;
+  vtkWhittedFrameStatistics* stats = pass->GetLastFrameStatistics();
   ren->SetPass(pass);
   win->Render();
-  const vtkTypeUInt64 firstTextureBytes = pass->GetLastTextureBytes();
-  const vtkTypeUInt64 firstTextures = pass->GetLastNumberOfTextures();
+  const vtkTypeUInt64 firstTextureBytes = stats->GetTextureBytes();
+  const vtkTypeUInt64 firstTextures = stats->GetNumberOfTextures();
   std::printf("first frame: %d object BVHs, %d geometries converted, %llu textures, %llu texture "
               "bytes\n",
-    pass->GetLastNumberOfObjectsRebuilt(), pass->GetLastNumberOfGeometriesConverted(),
+    stats->GetNumberOfObjectsRebuilt(), stats->GetNumberOfGeometriesConverted(),
     static_cast<unsigned long long>(firstTextures),
     static_cast<unsigned long long>(firstTextureBytes));
 
@@ -164,11 +165,11 @@ int TestWhittedColorMapEdits(int, char*[])
     fill(r, g, b);
     win->Render();
 
-    objectsRebuilt += pass->GetLastNumberOfObjectsRebuilt();
-    topLevelRebuilt += pass->GetLastTopLevelRebuilt() ? 1 : 0;
-    converted += pass->GetLastNumberOfGeometriesConverted();
-    maxTextureBytes = std::max(maxTextureBytes, pass->GetLastTextureBytes());
-    maxTextures = std::max(maxTextures, pass->GetLastNumberOfTextures());
+    objectsRebuilt += stats->GetNumberOfObjectsRebuilt();
+    topLevelRebuilt += stats->GetTopLevelRebuilt() ? 1 : 0;
+    converted += stats->GetNumberOfGeometriesConverted();
+    maxTextureBytes = std::max(maxTextureBytes, stats->GetTextureBytes());
+    maxTextures = std::max(maxTextures, stats->GetNumberOfTextures());
 
     const std::vector<unsigned char> pixels = GrabPixels(win);
     double want1[3], want2[3];
@@ -200,14 +201,14 @@ int TestWhittedColorMapEdits(int, char*[])
   // Unused textures are freed: the textured actor removed, then the colour map no longer needed
   ren->RemoveActor(a3);
   win->Render();
-  const vtkTypeUInt64 withoutPlane = pass->GetLastNumberOfTextures();
+  const vtkTypeUInt64 withoutPlane = stats->GetNumberOfTextures();
   m1->InterpolateScalarsBeforeMappingOff();
   win->Render();
-  const vtkTypeUInt64 withoutMap = pass->GetLastNumberOfTextures();
+  const vtkTypeUInt64 withoutMap = stats->GetNumberOfTextures();
   std::printf("textures held: %llu after removing the textured actor (want 1), %llu after "
               "InterpolateScalarsBeforeMappingOff (want 0), %llu bytes\n",
     static_cast<unsigned long long>(withoutPlane), static_cast<unsigned long long>(withoutMap),
-    static_cast<unsigned long long>(pass->GetLastTextureBytes()));
-  ok &= withoutPlane == 1 && withoutMap == 0 && pass->GetLastTextureBytes() == 0;
+    static_cast<unsigned long long>(stats->GetTextureBytes()));
+  ok &= withoutPlane == 1 && withoutMap == 0 && stats->GetTextureBytes() == 0;
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }

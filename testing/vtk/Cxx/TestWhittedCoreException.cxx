@@ -241,6 +241,7 @@ int main()
   for (long k = only ? std::atol(only) : 1; k <= (only ? std::atol(only) : allocations); ++k)
   {
     vtkNew<vtkWhittedPass> pass;
+    vtkWhittedFrameStatistics* stats = pass->GetLastFrameStatistics();
     for (unsigned long e :
       { vtkCommand::StartEvent, vtkCommand::ProgressEvent, vtkCommand::EndEvent })
     {
@@ -254,7 +255,7 @@ int main()
     win->Render();
     gCountdown = 0;
     const bool thrown = gThrown == thrownBefore + 1;
-    const bool failed = pass->GetLastFrameFailed();
+    const bool failed = stats->GetFailed();
     const std::vector<unsigned char> got = whittedtest::GrabPixels(win);
     const int bgDiff = whittedtest::DifferingPixels(background, got, 0);
     const bool reported = log.Errors.size() == 1 &&
@@ -264,7 +265,7 @@ int main()
     const size_t errorsBefore = log.Errors.size();
     win->Render(); // memory is back
     const int afterDiff = whittedtest::DifferingPixels(ref, whittedtest::GrabPixels(win), 0);
-    const bool recovered = !pass->GetLastFrameFailed() && log.Errors.size() == errorsBefore &&
+    const bool recovered = !stats->GetFailed() && log.Errors.size() == errorsBefore &&
       whittedtest::NonFiniteValues(pass) == 0;
     // Some allocations are optional and their failure is absorbed where it happens (the standard
     // library's shrink_to_fit catches it): then the frame must simply be right
@@ -288,6 +289,7 @@ int main()
   // An observer throwing while worker threads trace: caught, reported, the frame fails cleanly
   {
     vtkNew<vtkWhittedPass> pass;
+    vtkWhittedFrameStatistics* stats = pass->GetLastFrameStatistics();
     pass->SetNumberOfThreads(0);
     bool throwing = true;
     vtkNew<vtkCallbackCommand> cb;
@@ -299,7 +301,7 @@ int main()
     ren->SetPass(pass);
     win->Render();
     const int bgDiff = whittedtest::DifferingPixels(background, whittedtest::GrabPixels(win), 0);
-    const bool failed = pass->GetLastFrameFailed();
+    const bool failed = stats->GetFailed();
     throwing = false;
     win->Render();
     const int afterDiff = whittedtest::DifferingPixels(ref, whittedtest::GrabPixels(win), 0);
@@ -312,7 +314,7 @@ int main()
       bgDiff, afterDiff);
     ok &= failed && log.Errors.size() == 1 &&
       log.Errors[0].find("observer failed") != std::string::npos && bgDiff == 0 &&
-      !pass->GetLastFrameFailed() && afterDiff == 0;
+      !stats->GetFailed() && afterDiff == 0;
   }
   std::printf(
     "[alloc] %ld allocations failed one at a time: %d failed frames (%d errors, %d not "

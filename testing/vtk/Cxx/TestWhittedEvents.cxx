@@ -62,6 +62,7 @@ int TestWhittedEvents(int, char*[])
   SetWhitted(ball->GetProperty(), 0.5);
   ren->AddActor(ball);
   vtkNew<vtkWhittedPass> pass;
+  vtkWhittedFrameStatistics* stats = pass->GetLastFrameStatistics();
   pass->SetNumberOfThreads(1);
   ren->SetPass(pass);
 
@@ -85,7 +86,7 @@ int TestWhittedEvents(int, char*[])
     log.AbortChecks);
   ok &= log.Start == 1 && log.End == 1 && log.Progress.size() > 10 && monotone &&
     !log.Progress.empty() && log.Progress.back() == 1.0 && log.AbortChecks >= 1 &&
-    !pass->GetLastFrameAborted() && pass->GetLastPrimaryRays() == 160u * 120u;
+    !stats->GetAborted() && stats->GetPrimaryRays() == 160u * 120u;
 
   // Abort at the first check (vtkRenderWindow runs the check at most 5 times a second, so the first
   // one comes after the first tile): the frame stops early and says so
@@ -95,9 +96,9 @@ int TestWhittedEvents(int, char*[])
   ren->GetActiveCamera()->Azimuth(10);
   win->Render();
   std::printf("aborted frame: aborted %d, primary rays %llu of %d, abort checks %d\n",
-    int(pass->GetLastFrameAborted()), static_cast<unsigned long long>(pass->GetLastPrimaryRays()),
-    160 * 120, log.AbortChecks);
-  ok &= pass->GetLastFrameAborted() && pass->GetLastPrimaryRays() < 160u * 120u / 2;
+    int(stats->GetAborted()), static_cast<unsigned long long>(stats->GetPrimaryRays()), 160 * 120,
+    log.AbortChecks);
+  ok &= stats->GetAborted() && stats->GetPrimaryRays() < 160u * 120u / 2;
   win->SetAbortRender(0);
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }

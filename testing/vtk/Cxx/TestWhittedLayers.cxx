@@ -142,7 +142,7 @@ int TestWhittedLayers(int argc, char* argv[])
   ren->SetPass(pass);
   win->Render();
   std::cout << pass->GetLastFrameReport();
-  if (pass->GetLastNumberOfOpenGLProps() != 3)
+  if (pass->GetLastFrameStatistics()->GetNumberOfOpenGLProps() != 3)
   {
     std::cerr << "expected the image slice, the volume and the wireframe drawn by OpenGL\n";
     return EXIT_FAILURE;

@@ -80,11 +80,11 @@ int TestWhittedLinesAsTubes(int argc, char* argv[])
   LookAt(ren, { 0.5, 2.8, 5.5 }, { 0.0, 0.8, 0.0 }, 40);
 
   vtkNew<vtkWhittedPass> pass;
+  vtkWhittedFrameStatistics* stats = pass->GetLastFrameStatistics();
   ren->SetPass(pass);
   win->Render();
   std::cout << pass->GetLastFrameReport();
-  if (pass->GetLastNumberOfOpenGLProps() != 1 ||
-    pass->GetLastNumberOfTubes() < vtkTypeUInt64(n - 1))
+  if (stats->GetNumberOfOpenGLProps() != 1 || stats->GetNumberOfTubes() < vtkTypeUInt64(n - 1))
   {
     std::cerr << "expected the plain line drawn by OpenGL and the helix as tubes\n";
     return EXIT_FAILURE;

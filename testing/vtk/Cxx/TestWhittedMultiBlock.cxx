@@ -90,14 +90,15 @@ int TestWhittedMultiBlock(int argc, char* argv[])
   LookAt(ren, { 0.0, 3.0, 5.5 }, { 0.0, 0.5, 0.0 }, 40);
 
   vtkNew<vtkWhittedPass> pass;
+  vtkWhittedFrameStatistics* stats = pass->GetLastFrameStatistics();
   ren->SetPass(pass);
   win->Render();
   std::cout << pass->GetLastFrameReport();
   // Floor + 5 visible leaf blocks
-  if (pass->GetLastNumberOfGeometriesConverted() != 6)
+  if (stats->GetNumberOfGeometriesConverted() != 6)
   {
-    std::cerr << "expected 6 converted geometries, got "
-              << pass->GetLastNumberOfGeometriesConverted() << "\n";
+    std::cerr << "expected 6 converted geometries, got " << stats->GetNumberOfGeometriesConverted()
+              << "\n";
     return EXIT_FAILURE;
   }
   int retVal = vtkRegressionTestImage(win);

@@ -75,7 +75,7 @@ int TestWhittedOverlays(int argc, char* argv[])
   ren->SetPass(pass);
   win->Render();
   std::cout << pass->GetLastFrameReport();
-  if (pass->GetLastNumberOfOpenGLProps() != 2)
+  if (pass->GetLastFrameStatistics()->GetNumberOfOpenGLProps() != 2)
   {
     std::cerr << "expected the text and the scalar bar drawn by OpenGL\n";
     return EXIT_FAILURE;

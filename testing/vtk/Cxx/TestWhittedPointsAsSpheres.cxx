@@ -79,13 +79,14 @@ int TestWhittedPointsAsSpheres(int argc, char* argv[])
   LookAt(ren, { 0.8, 2.6, 5.5 }, { -0.2, 0.7, 0.0 }, 40);
 
   vtkNew<vtkWhittedPass> pass;
+  vtkWhittedFrameStatistics* stats = pass->GetLastFrameStatistics();
   ren->SetPass(pass);
   win->Render();
   std::cout << pass->GetLastFrameReport();
-  if (pass->GetLastNumberOfSpheres() != 45 + dots->GetMapper()->GetInput()->GetNumberOfPoints())
+  if (stats->GetNumberOfSpheres() != 45 + dots->GetMapper()->GetInput()->GetNumberOfPoints())
   {
     std::cerr << "expected one sphere per lattice point and per sphere-source point, got "
-              << pass->GetLastNumberOfSpheres() << "\n";
+              << stats->GetNumberOfSpheres() << "\n";
     return EXIT_FAILURE;
   }
   int retVal = vtkRegressionTestImage(win);

@@ -231,15 +231,16 @@ Result Render(vtkRenderWindow* win, const std::vector<Piece>& base, const Simila
   ren->ResetCameraClippingRange();
 
   vtkNew<vtkWhittedPass> pass;
+  vtkWhittedFrameStatistics* stats = pass->GetLastFrameStatistics();
   ren->SetPass(pass);
   win->Render();
   Result r;
   r.Pixels = whittedtest::GrabPixels(win);
-  r.Primary = pass->GetLastPrimaryRays();
-  r.Shadow = pass->GetLastShadowRays();
-  r.Reflection = pass->GetLastReflectionRays();
-  r.Refraction = pass->GetLastRefractionRays();
-  r.TraceTime = pass->GetLastTraceTime();
+  r.Primary = stats->GetPrimaryRays();
+  r.Shadow = stats->GetShadowRays();
+  r.Reflection = stats->GetReflectionRays();
+  r.Refraction = stats->GetRefractionRays();
+  r.TraceTime = stats->GetTraceTime();
   r.NonFinite = whittedtest::NonFiniteValues(pass);
   if (regression)
   {

@@ -87,11 +87,12 @@ int TestWhittedTransforms(int argc, char* argv[])
   LookAt(ren, { 0.0, 3.5, 5.5 }, { -0.2, 0.4, 0.0 }, 40);
 
   vtkNew<vtkWhittedPass> pass;
+  vtkWhittedFrameStatistics* stats = pass->GetLastFrameStatistics();
   ren->SetPass(pass);
   win->Render();
   std::cout << pass->GetLastFrameReport();
   // One geometry for the floor, one for all seven cones
-  if (pass->GetLastNumberOfGeometriesConverted() != 2 || pass->GetLastNumberOfTracedActors() != 8)
+  if (stats->GetNumberOfGeometriesConverted() != 2 || stats->GetNumberOfTracedActors() != 8)
   {
     std::cerr << "expected 2 converted geometries and 8 traced actors\n";
     return EXIT_FAILURE;

@@ -22,6 +22,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkSphereSource.h"
 #include "vtkUnsignedCharArray.h"
+#include "vtkWhittedFrameStatistics.h"
 #include "vtkWhittedPass.h"
 #include "vtkWindowToImageFilter.h"
 
@@ -189,8 +190,8 @@ inline int DifferingPixels(
   return n;
 }
 
-/// Values of the pass's last traced frame (colour and depth) that are NaN or infinite, plus what the
-/// tracer's safety nets caught in that frame; -1 if the pass kept no frame.
+/// Values of the pass's last traced frame (colour and depth) that are NaN or infinite, plus what
+/// the tracer's safety nets caught in that frame; -1 if the pass kept no frame.
 inline int NonFiniteValues(vtkWhittedPass* pass)
 {
   vtkNew<vtkFloatArray> rgba;
@@ -200,9 +201,9 @@ inline int NonFiniteValues(vtkWhittedPass* pass)
   {
     return -1;
   }
-  // What the tracer's safety nets caught (and zeroed or clamped) counts too: otherwise the nets would
-  // hide from this check the very values it looks for
-  int n = static_cast<int>(pass->GetLastNumberOfSafetyNetCatches());
+  // What the tracer's safety nets caught (and zeroed or clamped) counts too: otherwise the nets
+  // would hide from this check the very values it looks for
+  int n = static_cast<int>(pass->GetLastFrameStatistics()->GetNumberOfSafetyNetCatches());
   for (vtkFloatArray* a : { rgba.Get(), depth.Get() })
   {
     for (vtkIdType i = 0; i < a->GetNumberOfValues(); ++i)

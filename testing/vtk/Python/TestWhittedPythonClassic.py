@@ -21,10 +21,11 @@ class TestWhittedPythonClassic(Testing.vtkTest):
         renderer.SetPass(whitted_pass)
         window.Render()
         print(whitted_pass.GetLastFrameReport())
-        self.assertEqual(whitted_pass.GetLastNumberOfTracedActors(), 3)
-        self.assertGreater(whitted_pass.GetLastReflectionRays(), 0)
-        self.assertGreater(whitted_pass.GetLastRefractionRays(), 0)
-        self.assertGreater(whitted_pass.GetLastShadowRays(), 0)
+        stats = whitted_pass.GetLastFrameStatistics()
+        self.assertEqual(stats.GetNumberOfTracedActors(), 3)
+        self.assertGreater(stats.GetReflectionRays(), 0)
+        self.assertGreater(stats.GetRefractionRays(), 0)
+        self.assertGreater(stats.GetShadowRays(), 0)
         self.assertImageMatch(window, "TestWhittedClassic.png")
 
 

@@ -110,7 +110,8 @@ def render(ren, with_pass=True):
     def stats(p):
         if p is None:
             return None
-        return (p.GetLastNumberOfTriangles(), p.GetLastNumberOfTracedActors(), p.GetLastNumberOfSafetyNetCatches())
+        stats = p.GetLastFrameStatistics()
+        return (stats.GetNumberOfTriangles(), stats.GetNumberOfTracedActors(), stats.GetNumberOfSafetyNetCatches())
 
     return offscreen_render(ren, SIZE, pass_, stats)
 

@@ -62,8 +62,9 @@ class TestWhittedPythonOverlays(Testing.vtkTest):
         whitted_pass = vtkWhittedPass()
         renderer.SetPass(whitted_pass)
         window.Render()
-        self.assertEqual(whitted_pass.GetLastNumberOfTracedActors(), 3)
-        self.assertEqual(whitted_pass.GetLastNumberOfOpenGLProps(), 3)
+        stats = whitted_pass.GetLastFrameStatistics()
+        self.assertEqual(stats.GetNumberOfTracedActors(), 3)
+        self.assertEqual(stats.GetNumberOfOpenGLProps(), 3)
         self.assertImageMatch(window, "TestWhittedPythonOverlays.png")
 
 

@@ -55,6 +55,10 @@ class TestWhittedPythonPass(Testing.vtkTest):
         parts = classic_scene(renderer, 16)
         p = vtkWhittedPass()
         renderer.SetPass(p)
+        stats = p.GetLastFrameStatistics()  # updated by every frame
+
+        def rebuilt():
+            return stats.GetNumberOfGeometriesConverted(), stats.GetNumberOfObjectsRebuilt(), stats.GetTopLevelRebuilt()
         events = []
         for e in (vtkCommand.StartEvent, vtkCommand.ProgressEvent, vtkCommand.EndEvent):
             p.AddObserver(e, lambda o, ev: events.append(ev))
@@ -63,38 +67,33 @@ class TestWhittedPythonPass(Testing.vtkTest):
         self.assertEqual(events[0], "StartEvent")
         self.assertEqual(events[-1], "EndEvent")
         self.assertIn("ProgressEvent", events)
-        self.assertEqual(p.GetLastPrimaryRays(), 160 * 120)
-        self.assertGreater(p.GetLastShadowRays(), 0)
-        self.assertGreater(p.GetLastReflectionRays(), 0)
-        self.assertGreater(p.GetLastRefractionRays(), 0)
-        self.assertGreater(p.GetLastRaysSavedByThreshold() + p.GetLastRaysSavedByDepth(), 0)
-        self.assertGreater(p.GetLastNumberOfTriangles(), 280)
-        self.assertGreater(p.GetLastBVHBytes(), 0)
-        self.assertEqual(p.GetLastSize(), (160, 120))
-        for t in (p.GetLastConversionTime(), p.GetLastBuildTime(), p.GetLastTraceTime(),
-                  p.GetLastCompositeTime()):
+        self.assertEqual(stats.GetPrimaryRays(), 160 * 120)
+        self.assertGreater(stats.GetShadowRays(), 0)
+        self.assertGreater(stats.GetReflectionRays(), 0)
+        self.assertGreater(stats.GetRefractionRays(), 0)
+        self.assertGreater(stats.GetRaysSavedByThreshold() + stats.GetRaysSavedByDepth(), 0)
+        self.assertGreater(stats.GetNumberOfTriangles(), 280)
+        self.assertGreater(stats.GetBVHBytes(), 0)
+        self.assertEqual(stats.GetSize(), (160, 120))
+        for t in (stats.GetConversionTime(), stats.GetBuildTime(), stats.GetTraceTime(), stats.GetCompositeTime()):
             self.assertGreaterEqual(t, 0.0)
-        self.assertGreater(p.GetLastTraceTime(), 0.0)
+        self.assertGreater(stats.GetTraceTime(), 0.0)
         report = p.GetLastFrameReport()
         for word in ("Whitted frame report", "primary 19200", "conversion", "composite", "BVH"):
             self.assertIn(word, report)
-        self.assertEqual((p.GetLastNumberOfGeometriesConverted(), p.GetLastNumberOfObjectsRebuilt(),
-                          p.GetLastTopLevelRebuilt()), (3, 3, True))
+        self.assertEqual(rebuilt(), (3, 3, True))
 
         # Camera-only and light-only changes rebuild nothing
         renderer.GetActiveCamera().Azimuth(15)
         window.Render()
-        self.assertEqual((p.GetLastNumberOfGeometriesConverted(), p.GetLastNumberOfObjectsRebuilt(),
-                          p.GetLastTopLevelRebuilt()), (0, 0, False))
+        self.assertEqual(rebuilt(), (0, 0, False))
         parts["light"].SetPosition(-3, 6, 2)
         window.Render()
-        self.assertEqual((p.GetLastNumberOfGeometriesConverted(), p.GetLastNumberOfObjectsRebuilt(),
-                          p.GetLastTopLevelRebuilt()), (0, 0, False))
+        self.assertEqual(rebuilt(), (0, 0, False))
         # Moving an actor rebuilds only the top level
         parts["mirror"].AddPosition(0.2, 0, 0)
         window.Render()
-        self.assertEqual((p.GetLastNumberOfGeometriesConverted(), p.GetLastNumberOfObjectsRebuilt(),
-                          p.GetLastTopLevelRebuilt()), (0, 0, True))
+        self.assertEqual(rebuilt(), (0, 0, True))
 
     def testPicking(self):
         """Hardware picking (vtkPropPicker -> vtkHardwareSelector) still works: the pass lets OpenGL render the
@@ -203,7 +202,7 @@ class TestWhittedPythonPass(Testing.vtkTest):
         p = vtkWhittedPass()
         renderer.SetPass(p)
         window.Render()
-        self.assertEqual(p.GetLastNumberOfTriangles(), 4)
+        self.assertEqual(p.GetLastFrameStatistics().GetNumberOfTriangles(), 4)
         grab = vtkWindowToImageFilter()
         grab.SetInput(window)
         grab.ShouldRerenderOff()
@@ -228,7 +227,8 @@ class TestWhittedPythonPass(Testing.vtkTest):
         p.SetRefractions(False)
         p.SetMaxDepth(0)
         window.Render()
-        self.assertEqual(p.GetLastShadowRays() + p.GetLastReflectionRays() + p.GetLastRefractionRays(), 0)
+        stats = p.GetLastFrameStatistics()
+        self.assertEqual(stats.GetShadowRays() + stats.GetReflectionRays() + stats.GetRefractionRays(), 0)
         p.SetMaxDepth(5)
         p.SetShadows(True)
         p.SetReflections(True)
@@ -236,11 +236,45 @@ class TestWhittedPythonPass(Testing.vtkTest):
         p.SetSamplesPerPixel(4)
         p.SetNumberOfThreads(1)
         window.Render()
-        self.assertEqual(p.GetLastPrimaryRays(), 80 * 60 * 4)
+        self.assertEqual(stats.GetPrimaryRays(), 80 * 60 * 4)
         p.SetAdaptiveSampling(True)
         window.Render()
-        self.assertLess(p.GetLastPrimaryRays(), 80 * 60 * 4)
-        self.assertGreater(p.GetLastPrimaryRays(), 80 * 60)
+        self.assertLess(stats.GetPrimaryRays(), 80 * 60 * 4)
+        self.assertGreater(stats.GetPrimaryRays(), 80 * 60)
+
+    def testInteractiveQuality(self):
+        """Interactive frames: 1 sample, at most InteractiveMaxDepth bounces, shadows only with InteractiveShadows,
+        at 1/InteractiveImageReduction of the size; the full-quality settings are never changed, so turning
+        Interactive off gives the full-quality frame back."""
+        renderer, window = make_window(80, 60)
+        classic_scene(renderer, 12)
+        p = vtkWhittedPass()
+        renderer.SetPass(p)
+        p.SetSamplesPerPixel(4)
+        stats = p.GetLastFrameStatistics()
+        window.Render()
+        full = (stats.GetSize(), stats.GetPrimaryRays(), stats.GetShadowRays(), stats.GetReflectionRays())
+        self.assertEqual(full[:2], ((80, 60), 80 * 60 * 4))
+        self.assertGreater(min(full[2:]), 0)
+
+        p.InteractiveOn()
+        p.SetInteractiveImageReduction(4)
+        p.SetInteractiveMaxDepth(0)
+        p.InteractiveShadowsOff()
+        window.Render()
+        self.assertEqual(stats.GetSize(), (20, 15))
+        self.assertEqual(stats.GetPrimaryRays(), 20 * 15)
+        self.assertEqual(stats.GetShadowRays() + stats.GetReflectionRays() + stats.GetRefractionRays(), 0)
+        self.assertEqual((p.GetSamplesPerPixel(), p.GetMaxDepth(), p.GetShadows()), (4, 5, True))
+        p.InteractiveShadowsOn()
+        p.SetInteractiveMaxDepth(9)  # capped by MaxDepth
+        window.Render()
+        self.assertGreater(stats.GetShadowRays() * stats.GetReflectionRays(), 0)
+
+        p.InteractiveOff()
+        window.Render()
+        self.assertEqual((stats.GetSize(), stats.GetPrimaryRays(), stats.GetShadowRays(), stats.GetReflectionRays()),
+                         full)
 
 
 if __name__ == "__main__":

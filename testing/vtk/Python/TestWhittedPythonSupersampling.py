@@ -95,8 +95,9 @@ def render(ren, size, spp, adaptive, with_pass=True, shadows=True):
             return None
         rgba, depth = vtkFloatArray(), vtkFloatArray()
         p.GetLastFrame(rgba, depth)
-        check(p.GetLastNumberOfSafetyNetCatches() == 0,
-              f"safety nets caught nothing ({size}px, {spp} spp): {p.GetLastNumberOfSafetyNetCatches()}")
+        stats = p.GetLastFrameStatistics()
+        check(stats.GetNumberOfSafetyNetCatches() == 0,
+              f"safety nets caught nothing ({size}px, {spp} spp): {stats.GetNumberOfSafetyNetCatches()}")
         return (vtk_to_numpy(depth).reshape(size, size) < 1.0).astype(float)
 
     return offscreen_render(ren, size, pass_, coverage)

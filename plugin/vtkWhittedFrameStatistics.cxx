@@ -1,0 +1,55 @@
+#include "vtkWhittedFrameStatistics.h"
+
+#include "vtkObjectFactory.h"
+
+vtkStandardNewMacro(vtkWhittedFrameStatistics);
+
+//------------------------------------------------------------------------------
+void vtkWhittedFrameStatistics::Reset()
+{
+  this->ConversionTime = this->BuildTime = this->TraceTime = 0.0;
+  this->CompositeTime = this->TotalTime = 0.0;
+  this->PrimaryRays = this->ShadowRays = this->ReflectionRays = this->RefractionRays = 0;
+  this->RaysSavedByThreshold = this->RaysSavedByDepth = 0;
+  this->NumberOfTriangles = this->NumberOfSpheres = this->NumberOfTubes = 0;
+  this->BVHBytes = this->NumberOfTextures = this->TextureBytes = 0;
+  this->Size[0] = this->Size[1] = 0;
+  this->NumberOfGeometriesConverted = this->NumberOfObjectsRebuilt = 0;
+  this->TopLevelRebuilt = false;
+  this->NumberOfTracedActors = this->NumberOfOpenGLProps = 0;
+  this->NumberOfSafetyNetCatches = 0;
+  this->Aborted = this->Failed = false;
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+void vtkWhittedFrameStatistics::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "ConversionTime: " << this->ConversionTime << "\n";
+  os << indent << "BuildTime: " << this->BuildTime << "\n";
+  os << indent << "TraceTime: " << this->TraceTime << "\n";
+  os << indent << "CompositeTime: " << this->CompositeTime << "\n";
+  os << indent << "TotalTime: " << this->TotalTime << "\n";
+  os << indent << "PrimaryRays: " << this->PrimaryRays << "\n";
+  os << indent << "ShadowRays: " << this->ShadowRays << "\n";
+  os << indent << "ReflectionRays: " << this->ReflectionRays << "\n";
+  os << indent << "RefractionRays: " << this->RefractionRays << "\n";
+  os << indent << "RaysSavedByThreshold: " << this->RaysSavedByThreshold << "\n";
+  os << indent << "RaysSavedByDepth: " << this->RaysSavedByDepth << "\n";
+  os << indent << "NumberOfTriangles: " << this->NumberOfTriangles << "\n";
+  os << indent << "NumberOfSpheres: " << this->NumberOfSpheres << "\n";
+  os << indent << "NumberOfTubes: " << this->NumberOfTubes << "\n";
+  os << indent << "BVHBytes: " << this->BVHBytes << "\n";
+  os << indent << "NumberOfTextures: " << this->NumberOfTextures << "\n";
+  os << indent << "TextureBytes: " << this->TextureBytes << "\n";
+  os << indent << "Size: " << this->Size[0] << " " << this->Size[1] << "\n";
+  os << indent << "NumberOfGeometriesConverted: " << this->NumberOfGeometriesConverted << "\n";
+  os << indent << "NumberOfObjectsRebuilt: " << this->NumberOfObjectsRebuilt << "\n";
+  os << indent << "TopLevelRebuilt: " << this->TopLevelRebuilt << "\n";
+  os << indent << "NumberOfTracedActors: " << this->NumberOfTracedActors << "\n";
+  os << indent << "NumberOfOpenGLProps: " << this->NumberOfOpenGLProps << "\n";
+  os << indent << "NumberOfSafetyNetCatches: " << this->NumberOfSafetyNetCatches << "\n";
+  os << indent << "Aborted: " << this->Aborted << "\n";
+  os << indent << "Failed: " << this->Failed << "\n";
+}

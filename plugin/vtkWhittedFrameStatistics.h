@@ -1,0 +1,149 @@
+/**
+ * @class   vtkWhittedFrameStatistics
+ * @brief   what one frame of vtkWhittedPass did: time per phase, rays, scene size, caching
+ *
+ * The pass keeps one of these and fills it at the end of every frame
+ * (vtkWhittedPass::GetLastFrameStatistics()); read it after rendering:
+ * @code
+ *   stats = whitted_pass.GetLastFrameStatistics()
+ *   print(stats.GetTraceTime(), stats.GetPrimaryRays(), stats.GetNumberOfTriangles())
+ * @endcode
+ * Before the first frame, and after a failed one (GetFailed()), every value is 0.
+ *
+ * @sa vtkWhittedPass
+ */
+
+#ifndef vtkWhittedFrameStatistics_h
+#define vtkWhittedFrameStatistics_h
+
+#include "vtkObject.h"
+#include "vtkWhittedModule.h" // For export macro
+
+class VTKWHITTED_EXPORT vtkWhittedFrameStatistics : public vtkObject
+{
+public:
+  static vtkWhittedFrameStatistics* New();
+  vtkTypeMacro(vtkWhittedFrameStatistics, vtkObject);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * Wall-clock seconds: conversion of the renderer's actors to the tracer's scene, BVH builds,
+   * tracing, compositing into the framebuffer (including VTK's OpenGL stages for the props the
+   * tracer does not draw), and the whole frame.
+   */
+  vtkGetMacro(ConversionTime, double);
+  vtkGetMacro(BuildTime, double);
+  vtkGetMacro(TraceTime, double);
+  vtkGetMacro(CompositeTime, double);
+  vtkGetMacro(TotalTime, double);
+  ///@}
+
+  ///@{
+  /**
+   * Rays by kind, and secondary rays not traced because their contribution was below
+   * ContributionThreshold or MaxDepth was reached.
+   */
+  vtkGetMacro(PrimaryRays, vtkTypeUInt64);
+  vtkGetMacro(ShadowRays, vtkTypeUInt64);
+  vtkGetMacro(ReflectionRays, vtkTypeUInt64);
+  vtkGetMacro(RefractionRays, vtkTypeUInt64);
+  vtkGetMacro(RaysSavedByThreshold, vtkTypeUInt64);
+  vtkGetMacro(RaysSavedByDepth, vtkTypeUInt64);
+  ///@}
+
+  ///@{
+  /**
+   * The scene: triangles, spheres (points as spheres), tubes (lines as tubes), BVH memory in bytes,
+   * textures held (actor textures and colour maps of InterpolateScalarsBeforeMapping) and their
+   * memory in bytes; the traced image's size in pixels.
+   */
+  vtkGetMacro(NumberOfTriangles, vtkTypeUInt64);
+  vtkGetMacro(NumberOfSpheres, vtkTypeUInt64);
+  vtkGetMacro(NumberOfTubes, vtkTypeUInt64);
+  vtkGetMacro(BVHBytes, vtkTypeUInt64);
+  vtkGetMacro(NumberOfTextures, vtkTypeUInt64);
+  vtkGetMacro(TextureBytes, vtkTypeUInt64);
+  vtkGetVector2Macro(Size, int);
+  ///@}
+
+  ///@{
+  /**
+   * Caching: how many geometries (a mapper's input, or one block of a composite input) were
+   * converted again, how many object BVHs were built, whether the top-level BVH over the instances
+   * was rebuilt; how many props were traced and how many were left to OpenGL.
+   */
+  vtkGetMacro(NumberOfGeometriesConverted, int);
+  vtkGetMacro(NumberOfObjectsRebuilt, int);
+  vtkGetMacro(TopLevelRebuilt, bool);
+  vtkGetMacro(NumberOfTracedActors, int);
+  vtkGetMacro(NumberOfOpenGLProps, int);
+  ///@}
+
+  /**
+   * Safety nets: camera samples and pixels with a non-finite value that was zeroed, and alpha or
+   * depth values outside [0, 1] that were clamped. Zero for valid input, and also for bad input
+   * once the scene conversion and commit have rejected or fixed it (with a warning): tests assert
+   * it, so a net cannot hide a bug. The frame report lists each net, and the input values fixed at
+   * commit (materials, lights) beside them.
+   */
+  vtkGetMacro(NumberOfSafetyNetCatches, vtkTypeUInt64);
+
+  /**
+   * The frame was aborted (the render window's CheckAbortStatus()): part of the image is traced.
+   */
+  vtkGetMacro(Aborted, bool);
+
+  /**
+   * The frame failed: an exception (e.g. std::bad_alloc from the scene conversion, the BVH build or
+   * the tracer) was reported with vtkErrorMacro, the frame shows only what vtkCameraPass cleared
+   * (the background), and the scene is converted again from scratch at the next render. Every other
+   * value is 0.
+   */
+  vtkGetMacro(Failed, bool);
+
+  /**
+   * Sets every value to 0 (false).
+   */
+  void Reset();
+
+protected:
+  vtkWhittedFrameStatistics() = default;
+  ~vtkWhittedFrameStatistics() override = default;
+
+  // Filled by vtkWhittedPass (its internals fill a traced frame, the pass a failed one)
+  friend class vtkWhittedPass;
+  friend class vtkWhittedPassInternals;
+  double ConversionTime = 0.0;
+  double BuildTime = 0.0;
+  double TraceTime = 0.0;
+  double CompositeTime = 0.0;
+  double TotalTime = 0.0;
+  vtkTypeUInt64 PrimaryRays = 0;
+  vtkTypeUInt64 ShadowRays = 0;
+  vtkTypeUInt64 ReflectionRays = 0;
+  vtkTypeUInt64 RefractionRays = 0;
+  vtkTypeUInt64 RaysSavedByThreshold = 0;
+  vtkTypeUInt64 RaysSavedByDepth = 0;
+  vtkTypeUInt64 NumberOfTriangles = 0;
+  vtkTypeUInt64 NumberOfSpheres = 0;
+  vtkTypeUInt64 NumberOfTubes = 0;
+  vtkTypeUInt64 BVHBytes = 0;
+  vtkTypeUInt64 NumberOfTextures = 0;
+  vtkTypeUInt64 TextureBytes = 0;
+  int Size[2] = { 0, 0 };
+  int NumberOfGeometriesConverted = 0;
+  int NumberOfObjectsRebuilt = 0;
+  bool TopLevelRebuilt = false;
+  int NumberOfTracedActors = 0;
+  int NumberOfOpenGLProps = 0;
+  vtkTypeUInt64 NumberOfSafetyNetCatches = 0;
+  bool Aborted = false;
+  bool Failed = false;
+
+private:
+  vtkWhittedFrameStatistics(const vtkWhittedFrameStatistics&) = delete;
+  void operator=(const vtkWhittedFrameStatistics&) = delete;
+};
+
+#endif

@@ -1,0 +1,64 @@
+#include "vtkWhittedLights.h"
+
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
+#include "vtkRenderer.h"
+
+//------------------------------------------------------------------------------
+vtkWhittedLights::Summary vtkWhittedLights::Convert(
+  vtkRenderer* renderer, std::vector<whitted::Light>& lights)
+{
+  lights.clear();
+  // VTK's light complexity, as vtkOpenGLRenderer::UpdateLights computes it: 0 no light on, 1 one
+  // headlight, 2 directional lights, 3 positional lights
+  int count = 0;
+  int complexity = 0;
+  vtkLightCollection* lc = renderer->GetLights();
+  vtkCollectionSimpleIterator sit;
+  lc->InitTraversal(sit);
+  while (vtkLight* light = lc->GetNextLight(sit))
+  {
+    const double status = light->GetSwitch();
+    if (status > 0.0)
+    {
+      ++count;
+      if (complexity == 0)
+      {
+        complexity = 1;
+      }
+    }
+    if (complexity == 1 && (count > 1 || light->GetLightType() != VTK_LIGHT_TYPE_HEADLIGHT))
+    {
+      complexity = 2;
+    }
+    if (complexity < 3 && light->GetPositional())
+    {
+      complexity = 3;
+    }
+    if (status <= 0.0)
+    {
+      continue;
+    }
+
+    whitted::Light l;
+    double v[3];
+    light->GetTransformedPosition(v);
+    l.position = whitted::Vec3(v[0], v[1], v[2]);
+    light->GetTransformedFocalPoint(v);
+    l.focalPoint = whitted::Vec3(v[0], v[1], v[2]);
+    light->GetDiffuseColor(v);
+    l.color = whitted::Color(v[0], v[1], v[2]);
+    l.intensity = static_cast<float>(light->GetIntensity());
+    l.positional = light->GetPositional() != 0;
+    light->GetAttenuationValues(v);
+    l.attenuation = whitted::Vec3(v[0], v[1], v[2]);
+    l.coneAngle = light->GetConeAngle();
+    l.exponent = light->GetExponent();
+    l.castShadows = light->GetShadowAttenuation() > 0.0f;
+    lights.push_back(l);
+  }
+  Summary summary;
+  summary.HeadlightShading = complexity == 1;
+  summary.LightsOn = count > 0;
+  return summary;
+}

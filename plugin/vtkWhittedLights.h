@@ -1,0 +1,38 @@
+/**
+ * @file    vtkWhittedLights.h
+ * @brief   internal: a vtkRenderer's lights as the tracer's whitted::Light list
+ *
+ * Private to the Whitted module. Lights are read after vtkLightsPass has placed them, in world
+ * coordinates (GetTransformedPosition / GetTransformedFocalPoint), so headlights and camera lights
+ * follow the camera; switched-off lights are left out. Cheap: converted again every frame.
+ *
+ * @sa vtkWhittedSceneConverter
+ */
+
+#ifndef vtkWhittedLights_h
+#define vtkWhittedLights_h
+
+#include "light.h" // for whitted::Light
+
+#include <vector> // for std::vector
+
+class vtkRenderer;
+
+namespace vtkWhittedLights
+{
+/// What the lights mean for shading, beside the list itself.
+struct Summary
+{
+  /// VTK's light complexity 1 (exactly one switched-on headlight): VTK's shader then uses the
+  /// simpler specular term pow(N.L, power) (whitted::IntegratorSettings::headlightShading).
+  bool HeadlightShading = false;
+  /// At least one light is switched on (with none, VTK draws every actor unlit).
+  bool LightsOn = false;
+};
+
+/// Fills lights with the renderer's switched-on lights, in the renderer's order.
+Summary Convert(vtkRenderer* renderer, std::vector<whitted::Light>& lights);
+}
+
+#endif
+// VTK-HeaderTest-Exclude: vtkWhittedLights.h

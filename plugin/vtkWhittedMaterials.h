@@ -1,0 +1,46 @@
+/**
+ * @file    vtkWhittedMaterials.h
+ * @brief   internal: a vtkProperty (plus the Whitted keys) as the tracer's whitted::Material
+ *
+ * Private to the Whitted module. VTK's surface terms (Ambient, Diffuse, Specular and their colours,
+ * SpecularPower, Opacity, Lighting, Interpolation) are taken as they are; the Whitted terms come
+ * from the property's information keys (vtkWhittedPass::REFLECTANCE, TRANSMITTANCE,
+ * INDEX_OF_REFRACTION) with defaults that keep VTK's look (no reflection, transmittance
+ * 1 - Opacity, index 1). The material is then sanitised by the core (whitted::sanitizeMaterial) and
+ * what it fixed is warned about once per actor. Cheap: converted again every frame.
+ *
+ * @sa vtkWhittedSceneConverter vtkWhittedWarnings
+ */
+
+#ifndef vtkWhittedMaterials_h
+#define vtkWhittedMaterials_h
+
+#include "material.h" // for whitted::Material
+
+class vtkActor;
+class vtkWhittedWarnings;
+
+namespace vtkWhittedMaterials
+{
+/// Colour and opacity a composite mapper's display attributes set for one block.
+struct BlockAttributes
+{
+  bool HasColor = false;
+  double Color[3] = { 1.0, 1.0, 1.0 }; ///< Replaces the ambient and diffuse colours.
+  bool HasOpacity = false;
+  double Opacity = 1.0; ///< Replaces the property's Opacity.
+};
+
+/**
+ * The material of actor (its property), for one block of its input.
+ * - scalarColors: the geometry carries colours mapped from scalars (or colour-map coordinates):
+ *   they replace the ambient and diffuse colours, as in VTK 9.1.
+ * - texture: scene texture applied after lighting, -1 for none.
+ * - lightsOn: the renderer has a light switched on (else every actor is unlit, as VTK draws it).
+ */
+whitted::Material Convert(vtkActor* actor, const BlockAttributes& block, bool scalarColors,
+  int texture, bool lightsOn, vtkWhittedWarnings& warnings);
+}
+
+#endif
+// VTK-HeaderTest-Exclude: vtkWhittedMaterials.h

@@ -1,0 +1,94 @@
+/**
+ * @file    vtkWhittedSettings.h
+ * @brief   the one table of the ray tracer's user settings: name, owner, default, range, meaning
+ *
+ * Every setting a user sets on vtkWhittedPass, or on ParaView's Whitted Ray Trace view
+ * (vtkPVWhittedView, xml/WhittedView.xml), is one row of VTK_WHITTED_SETTINGS below. The pass and
+ * the view take their defaults and clamps from this table (e.g.
+ * vtkWhittedSettings::MaxDepth.Default); the other places that state them are checked against it:
+ * - TestWhittedSettings (VTK build): the pass's defaults and clamps.
+ * - paraview.settings (ParaView build): the view's defaults, clamps and forwarding to the pass,
+ *   the ParaView XML's default_values, range domains and Documentation (the GUI's tooltips), and
+ *   the settings tables of plugin/README.md.
+ *
+ * Columns: X(owner, type, name, default, minimum, maximum, documentation)
+ * - owner: Pass, a vtkWhittedPass setting (the ParaView view forwards it in one line), or View, a
+ *   setting of the ParaView view alone (how it picks interactive frames, parallel replication).
+ * - documentation: what the setting means to a user, word for word the XML's Documentation.
+ * Booleans have the range false..true.
+ */
+
+#ifndef vtkWhittedSettings_h
+#define vtkWhittedSettings_h
+
+// clang-format off
+#define VTK_WHITTED_SETTINGS(X)                                                                    \
+  X(Pass, int, MaxDepth, 5, 0, 64,                                                                 \
+    "Maximum number of secondary bounces (reflection and refraction) per camera ray; 0 gives "     \
+    "local shading and shadows only.")                                                             \
+  X(Pass, int, SamplesPerPixel, 1, 1, 64,                                                          \
+    "Camera rays per pixel (stratified, jittered) for anti-aliasing; 1 traces the pixel centre, "  \
+    "like OpenGL without multisampling. The cost grows linearly. Interactive frames use 1.")       \
+  X(Pass, bool, AdaptiveSampling, false, false, true,                                              \
+    "Trace one sample per pixel first and the full Samples Per Pixel only where the neighbouring " \
+    "pixels do not predict a pixel (edges, shadow boundaries, highlights, reflections; smooth "    \
+    "shading is left alone). No effect with 1 sample per pixel.")                                  \
+  X(Pass, bool, Shadows, true, false, true,                                                        \
+    "Trace a shadow ray toward every light. Transmissive objects cast coloured, lighter "          \
+    "shadows.")                                                                                    \
+  X(Pass, bool, Reflections, true, false, true,                                                    \
+    "Trace mirror rays for objects with a Reflectance above 0.")                                   \
+  X(Pass, bool, Refractions, true, false, true,                                                    \
+    "Bend transmitted rays by the objects' Index Of Refraction (Snell's law, total internal "      \
+    "reflection). Off: transmissive objects are see-through without bending.")                     \
+  X(Pass, bool, Fresnel, false, false, true,                                                       \
+    "Exact (unpolarised) dielectric Fresnel at refracting surfaces: transmissive objects reflect " \
+    "more at grazing angles (part of the transmittance moves to the reflectance).")                \
+  X(Pass, double, ContributionThreshold, 1.0 / 255.0, 0.0, 1.0,                                    \
+    "A secondary ray whose weight (the product of the reflectances and transmittances along its "  \
+    "path) is below this value is not traced. The default, 1/255, can change a pixel by less "     \
+    "than one 8-bit step; larger values are faster and darken deep reflections.")                  \
+  X(Pass, int, NumberOfThreads, 0, 0, 1024,                                                        \
+    "Tracing threads per rendering process; 0 uses every core the process may run on (its CPU "    \
+    "affinity: mpirun binds each rank to one core by default, so start pvserver or pvbatch with "  \
+    "mpirun --bind-to none, or give each rank several cores with --map-by ppr:1:node:pe=N, to "    \
+    "trace with N threads per rank).")                                                             \
+  X(Pass, int, InteractiveMaxDepth, 1, 0, 64,                                                      \
+    "Maximum bounces while the camera moves (the smaller of this and Max Depth).")                 \
+  X(Pass, bool, InteractiveShadows, true, false, true,                                             \
+    "Trace shadow rays while the camera moves (when Shadows is on).")                              \
+  X(View, double, InteractiveFrameTime, 0.1, 0.005, 2.0,                                           \
+    "Target wall-clock seconds of a frame while the camera moves. The view lowers the traced "     \
+    "resolution (up to Maximum Image Reduction) until frames take about this long; the "           \
+    "full-quality frame follows when interaction stops.")                                          \
+  X(View, int, MaximumImageReduction, 8, 1, 16,                                                    \
+    "Largest factor by which the width and height of frames traced while the camera moves are "    \
+    "reduced. 1 disables reduced-resolution interaction.")                                         \
+  X(View, bool, ReplicateGeometry, true, false, true,                                              \
+    "Parallel rendering only (mpirun pvbatch or pvserver): give every rank a copy of all "         \
+    "rendered geometry so shadows, reflections and refractions see the whole scene, and split "    \
+    "the image between ranks. Costs one copy of the geometry per rank. Off: each rank traces "     \
+    "only its own data and secondary rays miss the other ranks' geometry.")
+// clang-format on
+
+/// One row of the table, as a constant: vtkWhittedSettings::<name>.Default and so on.
+template <typename T>
+struct vtkWhittedSetting
+{
+  const char* Name;
+  T Default;
+  T Minimum;
+  T Maximum;
+  const char* Documentation;
+};
+
+namespace vtkWhittedSettings
+{
+#define VTK_WHITTED_SETTING_CONSTANT(owner, type, name, def, min, max, doc)                        \
+  constexpr vtkWhittedSetting<type> name{ #name, def, min, max, doc };
+VTK_WHITTED_SETTINGS(VTK_WHITTED_SETTING_CONSTANT)
+#undef VTK_WHITTED_SETTING_CONSTANT
+}
+
+#endif
+// VTK-HeaderTest-Exclude: vtkWhittedSettings.h

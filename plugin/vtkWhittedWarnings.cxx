@@ -1,0 +1,100 @@
+#include "vtkWhittedWarnings.h"
+
+#include "vtkObject.h"
+#include "vtkProp.h"
+#include "vtkProperty.h"
+
+#include "material.h"
+
+#include <cstdio>
+
+static_assert(vtkWhittedWarnings::MaterialEnergyScaled == whitted::kMaterialEnergyScaled,
+  "the energy warning is sanitizeMaterial's energy bit");
+
+//------------------------------------------------------------------------------
+void vtkWhittedWarnings::WarnOnce(vtkProp* prop, uint32_t warning, const std::string& message)
+{
+  if (this->Warned.insert(std::make_pair(prop, warning)).second)
+  {
+    vtkWarningWithObjectMacro(
+      this->Owner, << "Actor " << prop << " (" << prop->GetClassName() << "): " << message);
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkWhittedWarnings::WarnProblems(
+  vtkProp* actor, vtkProperty* property, const vtkWhittedPolyDataConverter::Problems& p, int block)
+{
+  const std::string prefix = block >= 0 ? "block " + std::to_string(block) + ": " : "";
+  auto warn = [&](bool found, Warning warning, const std::string& message)
+  {
+    if (found)
+    {
+      this->WarnOnce(actor, warning, prefix + message);
+    }
+  };
+  const std::string np = std::to_string(p.NumberOfPoints);
+  warn(p.NonFinitePoints, NonFinitePoints,
+    std::to_string(p.NonFinitePoints) + " of " + np +
+      " points have NaN or infinite coordinates: the cells using them are not drawn");
+  warn(p.InvalidCells, InvalidCells,
+    std::to_string(p.InvalidCells) + " cells use point ids outside [0, " + np +
+      "): they are not drawn");
+  warn(p.MalformedCellArrays, MalformedCells,
+    std::to_string(p.MalformedCellArrays) +
+      " cell arrays are malformed (offsets do not match the connectivity): not drawn");
+  warn(p.BadNormals, BadNormals,
+    std::to_string(p.BadNormals) +
+      " normals are NaN, infinite or zero-length: the facet normal is used there");
+  warn(p.ShortNormals, ShortNormals,
+    "the normals array has fewer tuples than points (cells) or not 3 components: ignored, "
+    "facet normals used");
+  warn(p.ShortScalars, ShortScalars,
+    "the colour array has fewer tuples than the points (cells) it colours: ignored, the "
+    "property colour is used");
+  warn(p.UnusableColors, UnusableColors,
+    "the scalars are used directly as colours but have no 1 to 4 components (or are a char "
+    "array): ignored, the property colour is used");
+  warn(p.ShortTCoords, ShortTCoords,
+    "the texture coordinates have fewer tuples than points or more than 3 components: the "
+    "texture is not applied");
+  warn(p.NoSphereRadius, NoSphereRadius,
+    "PointSize " + std::to_string(property->GetPointSize()) +
+      " gives spheres no positive radius: the points (vertices) are not drawn");
+  warn(p.NoTubeRadius, NoTubeRadius,
+    "LineWidth " + std::to_string(property->GetLineWidth()) +
+      " gives tubes no positive radius: the lines are not drawn");
+}
+
+//------------------------------------------------------------------------------
+void vtkWhittedWarnings::WarnMaterial(vtkProp* actor, uint32_t fixed, float energy)
+{
+  if (const uint32_t clamped = fixed & MaterialClamped)
+  {
+    // What was clamped, in words
+    static const char* const what[] = { "a colour", "Ambient/Diffuse/Specular", "SpecularPower",
+      "Opacity", "REFLECTANCE", "TRANSMITTANCE", "INDEX_OF_REFRACTION", "absorption" };
+    std::string msg;
+    for (int i = 0; i < 8; ++i)
+    {
+      if (clamped & (1u << i))
+      {
+        msg += msg.empty() ? "" : ", ";
+        msg += what[i];
+      }
+    }
+    this->WarnOnce(actor, clamped,
+      msg + " out of range or not finite: clamped" +
+        ((clamped & MaterialIndexOfRefraction) ? " (an INDEX_OF_REFRACTION <= 0 or NaN becomes 1)"
+                                               : ""));
+  }
+  if (fixed & MaterialEnergyScaled)
+  {
+    char sum[32];
+    std::snprintf(sum, sizeof(sum), "%.4g", energy);
+    this->WarnOnce(actor, MaterialEnergyScaled,
+      std::string("REFLECTANCE + TRANSMITTANCE is above 1 (largest channel sum ") + sum +
+        "): both scaled by 1/" + sum +
+        " so that sum is 1 (a surface cannot return more light than reaches it)");
+  }
+}
