@@ -161,48 +161,43 @@ class Bvh {
         for (int a = 0; a < 3; ++a) {
           const __m128 lo = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[br.nearBound[a]]), br.orgNear[a]), br.invNear[a]);
           const __m128 hi = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[br.farBound[a]]), br.orgFar[a]), br.invFar[a]);
-          // max(lo, t0) / min(hi, t1) return the second operand for a NaN first one: a NaN product is ignored
-          t0 = _mm_max_ps(lo, t0);
+          // The far product's NaN (0 * inf: an origin on the far plane of a parallel ray) is ignored: min(hi, t1)
+          // returns t1 for a NaN hi. The near product is never NaN for a real plane (its reciprocal is finite);
+          // it is NaN only for an empty slot's infinite plane minus an origin beyond float range, and
+          // max(t0, lo) returns that NaN, which rejects the slot. So empty slots (inverted, infinite boxes) are
+          // never entered and need no check.
+          t0 = _mm_max_ps(t0, lo);
           t1 = _mm_min_ps(hi, t1);
         }
         alignas(16) float tNear[4];
         _mm_store_ps(tNear, t0);
-        // Empty slots have inverted boxes, which a finite ray never enters unless its origin is beyond float
-        // range (inf - inf): the count check covers that
         unsigned mask = unsigned(_mm_movemask_ps(_mm_cmple_ps(t0, t1)));
         if (mask != 0) {
+          int c = __builtin_ctz(mask);
+          mask &= mask - 1;
           if constexpr (AnyHit) {
             // Any hit ends the query (shadow rays): no ordering, the first entered child is visited next
-            int next = -1;
             for (; mask; mask &= mask - 1) {
-              const int c = __builtin_ctz(mask);
-              if (n.count[c] == BvhWideNode::kEmpty) continue;
-              if (next >= 0) stack[sp++] = Entry{tNear[next], n.first[next], n.count[next]};
-              next = c;
+              const int o = __builtin_ctz(mask);
+              stack[sp++] = Entry{tNear[o], n.first[o], n.count[o]};
             }
-            if (next >= 0) {
-              cur = Entry{tNear[next], n.first[next], n.count[next]};
-              continue;
-            }
-          } else {
+          } else if (mask != 0) {
             // Entered children by distance, nearest first; the rest are pushed farthest first
-            int order[4], k = 0;
+            int order[4] = {c, 0, 0, 0}, k = 1;
             for (; mask; mask &= mask - 1) {
-              const int c = __builtin_ctz(mask);
-              if (n.count[c] == BvhWideNode::kEmpty) continue;
+              const int o = __builtin_ctz(mask);
               int j = k++;
-              while (j > 0 && tNear[order[j - 1]] > tNear[c]) {
+              while (j > 0 && tNear[order[j - 1]] > tNear[o]) {
                 order[j] = order[j - 1];
                 --j;
               }
-              order[j] = c;
+              order[j] = o;
             }
-            if (k > 0) {
-              for (int j = k - 1; j > 0; --j) stack[sp++] = Entry{tNear[order[j]], n.first[order[j]], n.count[order[j]]};
-              cur = Entry{tNear[order[0]], n.first[order[0]], n.count[order[0]]};
-              continue;
-            }
+            for (int j = k - 1; j > 0; --j) stack[sp++] = Entry{tNear[order[j]], n.first[order[j]], n.count[order[j]]};
+            c = order[0];
           }
+          cur = Entry{tNear[c], n.first[c], n.count[c]};
+          continue;
         }
       }
       // Next entry from the stack, skipping those behind a hit found since they were pushed
