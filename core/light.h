@@ -1,6 +1,7 @@
 // Lights as in vtkLight, in world coordinates.
 #pragma once
 
+#include "material.h"
 #include "math.h"
 
 namespace whitted {
@@ -32,5 +33,11 @@ struct LightSample {
 
 /// Evaluates VTK's attenuation and spot cone for point p.
 LightSample sampleLight(const Light& light, const Vec3& p);
+
+/// Sanitises a light in place so no input can produce a NaN pixel: colour and intensity clamped to [0, 1e6]
+/// (non-finite: 0), a light with a non-finite position, focal point, attenuation, cone angle or exponent switched
+/// off (intensity 0), negative attenuation coefficients raised to 0, the spot exponent clamped to vtkLight's
+/// [0, 128]. Returns true if anything was fixed.
+bool sanitizeLight(Light& light);
 
 }  // namespace whitted

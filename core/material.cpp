@@ -33,12 +33,25 @@ uint32_t fixRange(float& v, float lo, float hi, float fallback, uint32_t bit) {
 }
 
 uint32_t fixColor(Color& c, float lo, float hi, uint32_t bit) {
-  uint32_t r = 0;
-  for (int i = 0; i < 3; ++i) r |= fixRange(c[i], lo, hi, lo, bit);
-  return r;
+  return sanitizeColor(c, lo, hi) ? bit : 0;
 }
 
 }  // namespace
+
+bool sanitizeColor(Color& c, float lo, float hi) {
+  bool fixed = false;
+  for (int i = 0; i < 3; ++i) fixed |= fixRange(c[i], lo, hi, lo, 1u) != 0;
+  return fixed;
+}
+
+void sanitizeColors(std::vector<Color4>& colors) {
+  for (Color4& c : colors) {
+    Color rgb(c);
+    sanitizeColor(rgb, 0.0f, 1.0f);
+    const float a = std::isfinite(c.a) ? std::clamp(c.a, 0.0f, 1.0f) : 1.0f;
+    c = Color4(rgb, a);
+  }
+}
 
 Color4 Texture::sample(float s, float t) const {
   if (width <= 0 || height <= 0 || rgba.size() < size_t(width) * height * 4) return Color4(1.0f);

@@ -64,4 +64,11 @@ constexpr uint32_t kMaterialEnergyScaled = 1u << 8;
 /// scaled as kMaterialEnergyScaled describes. A material with kr + kt <= 1 everywhere keeps kr and kt bit-exact.
 uint32_t sanitizeMaterial(Material& m);
 
+/// The one colour sanitiser: clamps each RGB component of c to [lo, hi], a non-finite one becomes lo. Returns
+/// true if anything changed.
+bool sanitizeColor(Color& c, float lo, float hi);
+/// Geometry colours (vertex, triangle, sphere, tube colours): RGB as sanitizeColor(rgb, 0, 1), alpha clamped to
+/// [0,1] with a non-finite alpha becoming 1, so no NaN can reach shading.
+void sanitizeColors(std::vector<Color4>& colors);
+
 }  // namespace whitted

@@ -111,6 +111,12 @@ struct Bounds3 {
   }
 };
 
+/// v / |v|, or fallback when v is zero or not finite.
+inline Vec3 safeNormalize(const Vec3& v, const Vec3& fallback) {
+  double l = glm::length(v);
+  return (l > 0.0 && std::isfinite(l)) ? v / l : fallback;
+}
+
 /// Transforms a point by an affine 4x4 matrix.
 inline Vec3 transformPoint(const Mat4& m, const Vec3& p) {
   return Vec3(m * Vec4(p, 1.0));

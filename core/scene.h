@@ -1,12 +1,17 @@
-// The scene: objects (geometry with their own BVH), instances (object + transform + material), materials, lights,
-// textures and background. commit() rebuilds only what changed: the BVH of each edited object, and the small
-// top-level BVH over instances when any instance or object bound changed. It also detects which features the
-// scene can use so the integrator can run a kernel that skips the rest.
+// The scene: objects (geometry with their own BVH, object.h), instances (object + transform + material),
+// materials, lights, textures and background. commit() rebuilds only what changed: the BVH of each edited object,
+// and the small top-level BVH over instances when any instance or object bound changed. It also detects which
+// features the scene can use so the integrator can run a kernel that skips the rest.
+// Where each part lives: registry and commit in scene.cpp, the two-level traversal (closest hit with its
+// tie-break, shadow transmittance, surface data at a hit) in traversal.cpp, the environment lookup in
+// environment.cpp, each shape's code in shape_*.cpp, light and material sanitising in light.cpp / material.cpp.
 #pragma once
 
 #include "bvh.h"
+#include "environment.h"
 #include "light.h"
 #include "material.h"
+#include "object.h"
 #include "shapes.h"
 
 #include <cstdint>
@@ -14,29 +19,6 @@
 #include <vector>
 
 namespace whitted {
-
-enum class GeometryType : uint8_t { Triangles, Spheres, Capsules };
-
-/// An image around the scene, sampled by direction: what reflected and bent rays see when they leave the scene
-/// (VTK's vtkSkybox / vtkRenderer::SetEnvironmentTexture, ParaView's Skybox background; or the screen-space
-/// textured background seen as a backdrop). Texture ids index Scene textures; rows bottom to top.
-struct EnvironmentMap {
-  enum class Projection : uint8_t {
-    None,    ///< No image: the background colour (or vertical gradient by elevation) is the environment.
-    Sphere,  ///< Equirectangular image (VTK's vtkSkybox Sphere projection and equirectangular IBL textures).
-    Cube,    ///< Six faces, +X, -X, +Y, -Y, +Z, -Z in VTK's input order, OpenGL cube-map face orientation.
-    Screen,  ///< A screen-space backdrop (VTK's textured background) seen along the direction's projection.
-  };
-  Projection projection = Projection::None;
-  int32_t faces[6] = {-1, -1, -1, -1, -1, -1};  ///< Sphere and Screen use faces[0].
-  /// Sphere: orthonormal frame of the image. A direction d maps to u = atan2(d.right, d.front) / 2pi + 0.5,
-  /// v = atan2(d.up, |(d.right, d.front)|) / pi + 0.5 (vtkSkybox's shader: front = up x right).
-  /// Cube: (right, up, -front) is the frame of the cube-map lookup (defaults give the world direction).
-  Vec3 right{1.0, 0.0, 0.0}, up{0.0, 1.0, 0.0}, front{0.0, 0.0, -1.0};
-  /// Screen: the camera's world -> clip matrix, view direction and up (set per frame).
-  Mat4 worldToClip{1.0};
-  Vec3 viewDirection{0.0, 0.0, -1.0}, viewUp{0.0, 1.0, 0.0};
-};
 
 /// What the committed scene contains; the integrator leaves out every mechanism whose flag is false.
 struct Features {
@@ -47,27 +29,6 @@ struct Features {
   bool capsules = false;
   bool transforms = false;  ///< Some visible instance has a non-identity transform.
   bool textures = false;    ///< Some visible material uses a texture with texture coordinates present.
-};
-
-/// A closest hit: ray parameter, instance, original primitive index and surface parameters.
-struct Hit {
-  double t = kInfinity;
-  uint32_t instance = 0;
-  uint32_t prim = 0;
-  double u = 0.0, v = 0.0;
-};
-
-/// Everything shading needs at a hit, in world space.
-struct SurfacePoint {
-  Vec3 p;              ///< Hit point.
-  Vec3 pError;         ///< Per-axis bound on the absolute error of p (for robust ray offsets).
-  Vec3 ng;             ///< Unit geometric normal (as the geometry winds, not flipped toward the ray).
-  Vec3 ns;             ///< Unit shading normal, on the same side as ng.
-  Color4 color{1.0f};  ///< Geometry colour (vertex/triangle/sphere), valid when hasColor.
-  Vec2f uv{0.0f};      ///< Texture coordinates, valid when hasUV.
-  bool hasColor = false;
-  bool hasUV = false;
-  uint32_t material = 0;
 };
 
 /// Counts of what commit() did, for statistics and for tests of caching.
@@ -110,10 +71,11 @@ class Scene {
   /// Frees an object's data; instances of it become invisible.
   void removeObject(uint32_t object);
   std::size_t objectCount() const { return objects_.size(); }
-  GeometryType objectType(uint32_t object) const { return objects_[object].type; }
-  const TriangleMesh& mesh(uint32_t object) const { return objects_[object].mesh; }
-  const SphereSet& spheres(uint32_t object) const { return objects_[object].spheres; }
-  const CapsuleSet& capsules(uint32_t object) const { return objects_[object].capsules; }
+  GeometryType objectType(uint32_t object) const { return objects_[object].type(); }
+  /// A copy of an object's geometry as given (triangles in their original order; empty if of another shape).
+  TriangleMesh mesh(uint32_t object) const { return objects_[object].originalGeometry<TriangleMesh>(); }
+  SphereSet spheres(uint32_t object) const { return objects_[object].originalGeometry<SphereSet>(); }
+  CapsuleSet capsules(uint32_t object) const { return objects_[object].originalGeometry<CapsuleSet>(); }
 
   // Instances ---------------------------------------------------------------------------------------------
   /// Places an object in the world with an object -> world affine transform and a material.
@@ -190,18 +152,6 @@ class Scene {
   SurfacePoint surface(const Ray& ray, const Hit& hit) const;
 
  private:
-  struct Object {
-    GeometryType type = GeometryType::Triangles;
-    TriangleMesh mesh;
-    SphereSet spheres;
-    CapsuleSet capsules;
-    Bvh bvh;
-    std::vector<uint32_t> leafPrims;   ///< BVH leaf slot -> original primitive index.
-    std::vector<glm::uvec3> leafTris;  ///< Triangles in leaf order (cache-friendly traversal).
-    Bounds3 bounds;
-    bool dirty = true;
-    bool alive = true;
-  };
   struct Instance {
     uint32_t object = 0;
     uint32_t material = 0;
@@ -209,15 +159,21 @@ class Scene {
     Mat3 normalToWorld{1.0};
     bool identity = true;
     bool visible = true;
+    /// ray in object space (t keeps its meaning: the same point for the same t).
+    Ray objectRay(const Ray& ray) const {
+      if (identity) return ray;
+      Ray r = ray;
+      r.origin = transformPoint(toObject, ray.origin);
+      r.dir = transformVector(toObject, ray.dir);
+      return r;
+    }
   };
 
-  void rebuildObject(Object& o, CommitStats& st);
-  /// Clamps an object's colours to [0,1] (non-finite: 0, alpha 1) so no NaN can reach shading.
-  static void sanitizeColors(Object& o);
-  /// Tests the primitive in BVH leaf slot `slot` of o against r (tr: r's precomputed triangle setup).
-  static std::optional<PrimHit> intersectLeafSlot(const Object& o, uint32_t slot, const Ray& r, const TriangleRay& tr);
-  bool intersectObject(const Object& o, uint32_t instance, const Ray& ray, double& tMax, Hit& hit,
-                       uint64_t* nodes) const;
+  /// setMesh / setSpheres / setCapsules and their update variants, for geometry of any shape.
+  template <typename G>
+  void setGeometry(uint32_t object, G&& g);
+  template <typename G>
+  bool updateGeometry(uint32_t object, G&& g);
   template <typename Fn>
   void forEachVisibleInstance(Fn&& fn) const;
 

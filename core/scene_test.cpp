@@ -72,6 +72,49 @@ TEST(Scene, UpdateMeshKeepsBvhWhenOnlyAttributesChange) {
   EXPECT_EQ(s.commit().objectsRebuilt, 1);
 }
 
+// A committed mesh keeps its triangles in BVH leaf order internally: mesh() still returns them as given, hits
+// report the index as given (triangle colours follow it), an unchanged update keeps the BVH, a reordered triangle
+// list is a geometry change, and invalid triangles (left out of the BVH) keep their place too.
+TEST(Scene, LeafOrderIsInvisibleOutsideTheObject) {
+  TriangleMesh m = makeSphereMesh(Vec3(0.0), 1.0, 16, 8);
+  m.triangles.insert(m.triangles.begin() + 7, glm::uvec3(0, 0, 0));  // degenerate: invalid
+  m.triangles.push_back(glm::uvec3(0, 1, 99999));                    // index out of range: invalid
+  for (std::size_t i = 0; i < m.triangles.size(); ++i) m.triangleColors.push_back(Color4(float(i) / 1024.0f, 0, 0, 1));
+  Scene s;
+  uint32_t o = s.addMesh(m);
+  Material mat;
+  mat.lighting = false;
+  s.addInstance(o, Mat4(1.0), s.addMaterial(mat));
+  CommitStats st = s.commit();
+  EXPECT_EQ(st.invalidPrimitives, 2u);
+  EXPECT_EQ(s.mesh(o).triangles, m.triangles);
+  EXPECT_EQ(s.stats().triangles, m.triangles.size() - 2);
+
+  // Every hit's primitive, checked by brute force over the mesh as given
+  int hits = 0;
+  for (int i = 0; i < 200; ++i) {
+    Ray r;
+    r.origin = Vec3(0.01 * (i % 20) - 0.1, 0.01 * (i / 20) - 0.05, 5.0);
+    r.dir = Vec3(0.02 * (i % 7), -0.03 * (i % 5), -1.0);
+    Hit h;
+    if (!s.intersect(r, h)) continue;
+    ++hits;
+    const glm::uvec3& t = m.triangles[h.prim];
+    auto ph = intersectTriangle(r, m.positions[t.x], m.positions[t.y], m.positions[t.z]);
+    ASSERT_TRUE(ph);
+    EXPECT_EQ(ph->t, h.t);
+    EXPECT_EQ(s.surface(r, h).color, m.triangleColors[h.prim]);
+  }
+  EXPECT_GT(hits, 100);
+
+  EXPECT_FALSE(s.updateMesh(o, m));
+  EXPECT_EQ(s.mesh(o).triangles, m.triangles);
+  std::swap(m.triangles[0], m.triangles[1]);
+  EXPECT_TRUE(s.updateMesh(o, m));
+  EXPECT_EQ(s.commit().objectsRebuilt, 1);
+  EXPECT_EQ(s.mesh(o).triangles, m.triangles);
+}
+
 // setTexture replaces in place; removeTexture frees the texels and addTexture reuses the id: 1000 replace or
 // remove/add cycles leave the slot count and the texture memory where they were.
 TEST(Scene, TexturesAreReplacedAndFreedInPlace) {

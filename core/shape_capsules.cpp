@@ -1,4 +1,4 @@
-#include "shapes.h"
+#include "shape_capsules.h"
 
 #include <algorithm>
 #include <utility>
@@ -6,11 +6,6 @@
 namespace whitted {
 
 namespace {
-
-int maxAxis(const Vec3& v) {
-  Vec3 a = glm::abs(v);
-  return (a.x > a.y) ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
-}
 
 /// Roots of a*t^2 + 2*hb*t + c = 0 computed without cancellation; false when there is no real root. disc receives
 /// the discriminant hb^2 - a*c.
@@ -45,97 +40,6 @@ double quadraticRootError(double a, double disc, double radius, double e) {
 }
 
 }  // namespace
-
-TriangleRay::TriangleRay(const Ray& ray) {
-  // Permute axes so the ray direction's largest component is z
-  kz = maxAxis(ray.dir);
-  kx = (kz + 1) % 3;
-  ky = (kx + 1) % 3;
-  if (ray.dir[kz] < 0.0) std::swap(kx, ky);
-  double dz = ray.dir[kz];
-  valid = dz != 0.0 && isFinite(ray.dir);
-  if (!valid) return;
-  sx = ray.dir[kx] / dz;
-  sy = ray.dir[ky] / dz;
-  sz = 1.0 / dz;
-}
-
-std::optional<PrimHit> intersectTriangle(const Ray& ray, const TriangleRay& tr, const Vec3& p0, const Vec3& p1,
-                                         const Vec3& p2) {
-  if (!tr.valid) return std::nullopt;
-  const int kx = tr.kx, ky = tr.ky, kz = tr.kz;
-  const double sx = tr.sx, sy = tr.sy, sz = tr.sz;
-
-  // Translate vertices to the ray origin and shear so the ray becomes the +z axis
-  Vec3 a = p0 - ray.origin, b = p1 - ray.origin, c = p2 - ray.origin;
-  double ax = a[kx] - sx * a[kz], ay = a[ky] - sy * a[kz];
-  double bx = b[kx] - sx * b[kz], by = b[ky] - sy * b[kz];
-  double cx = c[kx] - sx * c[kz], cy = c[ky] - sy * c[kz];
-
-  // Scaled barycentrics (edge functions)
-  double u = cx * by - cy * bx;
-  double v = ax * cy - ay * cx;
-  double w = bx * ay - by * ax;
-  if (u == 0.0 || v == 0.0 || w == 0.0) {
-    // Re-evaluate exactly-on-edge cases in extended precision so the sign decision is consistent
-    long double lu = (long double)cx * by - (long double)cy * bx;
-    long double lv = (long double)ax * cy - (long double)ay * cx;
-    long double lw = (long double)bx * ay - (long double)by * ax;
-    u = (double)lu;
-    v = (double)lv;
-    w = (double)lw;
-  }
-  if ((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0)) return std::nullopt;
-  double det = u + v + w;
-  if (det == 0.0 || !std::isfinite(det)) return std::nullopt;
-
-  // Scaled hit distance and range test without division
-  double az = sz * a[kz], bz = sz * b[kz], cz = sz * c[kz];
-  double tScaled = u * az + v * bz + w * cz;
-  double invDet = 1.0 / det;
-  double t = tScaled * invDet;
-  if (!(t > ray.tMin && t < ray.tMax)) return std::nullopt;
-
-  // Reject t that is not conservatively positive given its rounding error (pbrt-v4, section 6.8.7): a ray
-  // leaving a surface can then never re-hit that surface near t = 0, whatever the scene's scale
-  double maxZt = std::max(std::abs(az), std::max(std::abs(bz), std::abs(cz)));
-  double maxXt = std::max(std::abs(ax), std::max(std::abs(bx), std::abs(cx)));
-  double maxYt = std::max(std::abs(ay), std::max(std::abs(by), std::abs(cy)));
-  double deltaZ = gammaBound(3) * maxZt;
-  double deltaX = gammaBound(5) * (maxXt + maxZt);
-  double deltaY = gammaBound(5) * (maxYt + maxZt);
-  double deltaE = 2.0 * (gammaBound(2) * maxXt * maxYt + deltaY * maxXt + deltaX * maxYt);
-  double maxE = std::max(std::abs(u), std::max(std::abs(v), std::abs(w)));
-  double deltaT = 3.0 * (gammaBound(3) * maxE * maxZt + deltaE * maxZt + deltaZ * maxE) * std::abs(invDet);
-  if (t <= deltaT) return std::nullopt;
-  // An edge function exactly zero: the ray meets an edge or vertex, which the neighbouring triangle accepts too
-  return PrimHit{t, v * invDet, w * invDet, deltaT, u == 0.0 || v == 0.0 || w == 0.0};
-}
-
-std::optional<PrimHit> intersectSphere(const Ray& ray, const Vec3& center, double radius) {
-  // Stable form (Haines et al., Ray Tracing Gems ch. 7): discriminant from the perpendicular distance
-  Vec3 f = ray.origin - center;
-  double a = glm::dot(ray.dir, ray.dir);
-  if (!(a > 0.0) || !(radius > 0.0)) return std::nullopt;
-  double hb = glm::dot(f, ray.dir);
-  Vec3 perp = f - (hb / a) * ray.dir;
-  double r2 = radius * radius;
-  double discOverA = r2 - glm::dot(perp, perp);
-  if (discOverA < 0.0) return std::nullopt;
-  double c = glm::dot(f, f) - r2;
-  double q = -(hb + std::copysign(std::sqrt(a * discOverA), hb));
-  double t0, t1;
-  if (q == 0.0) {
-    t0 = t1 = 0.0;
-  } else {
-    t0 = c / q;
-    t1 = q / a;
-  }
-  if (t0 > t1) std::swap(t0, t1);
-  if (t0 > ray.tMin && t0 < ray.tMax) return PrimHit{t0, 0.0, 0.0};
-  if (t1 > ray.tMin && t1 < ray.tMax) return PrimHit{t1, 0.0, 0.0};
-  return std::nullopt;
-}
 
 std::optional<PrimHit> intersectCapsule(const Ray& ray, const Vec3& pa, const Vec3& pb, double radius) {
   if (!(radius > 0.0)) return std::nullopt;
@@ -218,8 +122,34 @@ std::optional<PrimHit> intersectCapsule(const Ray& ray, const Vec3& pa, const Ve
   return PrimHit{best, bestU, 0.0, err, boundary};
 }
 
-Vec3 triangleHitError(const Vec3& p0, const Vec3& p1, const Vec3& p2, double b0, double b1, double b2) {
-  return gammaBound(7) * (glm::abs(b0 * p0) + glm::abs(b1 * p1) + glm::abs(b2 * p2));
+bool CapsuleShape::bounds(const CapsuleSet& c, uint32_t i, Bounds3& box) {
+  if (i >= c.p0.size() || i >= c.p1.size()) return false;
+  double r = radiusAt(c.radii, i);
+  if (!isFinite(c.p0[i]) || !isFinite(c.p1[i]) || !(r > 0.0) || !std::isfinite(r)) return false;
+  box = Bounds3{glm::min(c.p0[i], c.p1[i]) - Vec3(r), glm::max(c.p0[i], c.p1[i]) + Vec3(r)};
+  return true;
+}
+
+void CapsuleShape::surface(const CapsuleSet& cs, const Hit& hit, const Ray& r, const std::vector<Texture>&,
+                           SurfacePoint& sp) {
+  const Vec3 &a = cs.p0[hit.prim], &b = cs.p1[hit.prim];
+  double rad = radiusAt(cs.radii, hit.prim);
+  Vec3 q = r.origin + hit.t * r.dir;
+  // Re-project onto the capsule: the closest axis point, pushed out by the radius
+  Vec3 ab = b - a;
+  double len2 = glm::dot(ab, ab);
+  double u = len2 > 0.0 ? std::clamp(glm::dot(q - a, ab) / len2, 0.0, 1.0) : 0.0;
+  Vec3 axisPoint = a + u * ab;
+  sp.ng = safeNormalize(q - axisPoint, Vec3(0, 0, 1));
+  sp.p = axisPoint + rad * sp.ng;
+  sp.pError = gammaBound(7) * (glm::abs(sp.p) + glm::abs(a) + glm::abs(b));
+  sp.ns = sp.ng;
+  if (!cs.colors0.empty()) {
+    std::size_t i = std::min<std::size_t>(hit.prim, cs.colors0.size() - 1);
+    Color4 c1 = cs.colors1.size() > i ? cs.colors1[i] : cs.colors0[i];
+    sp.color = glm::mix(cs.colors0[i], c1, float(u));
+    sp.hasColor = true;
+  }
 }
 
 }  // namespace whitted

@@ -1,0 +1,60 @@
+#include "object.h"
+
+namespace whitted {
+
+namespace {
+
+template <typename Shape>
+std::size_t rebuildShape(Object& o, typename Shape::Geometry& g) {
+  Shape::sanitize(g);
+
+  // Boxes of valid primitives; non-finite and degenerate ones are left out of the BVH
+  const std::size_t n = Shape::count(g);
+  std::vector<Bounds3> boxes;
+  std::vector<Vec3> centroids;
+  std::vector<uint32_t> valid;
+  boxes.reserve(n);
+  centroids.reserve(n);
+  valid.reserve(n);
+  o.bounds = Bounds3();
+  Bounds3 box;
+  for (uint32_t i = 0; i < n; ++i) {
+    if (!Shape::bounds(g, i, box)) continue;
+    boxes.push_back(box);
+    centroids.push_back(box.center());
+    valid.push_back(i);
+    o.bounds.extend(box);
+  }
+  o.bvh.build(boxes, centroids);
+
+  // Leaf order of every primitive (only needed when some are left out: otherwise it is the BVH's own order)
+  o.primOrder.clear();
+  if (valid.size() < n) {
+    o.primOrder.reserve(n);
+    for (uint32_t i : o.bvh.primIndices()) o.primOrder.push_back(valid[i]);
+    std::size_t next = 0;  // valid is increasing: the others are the gaps
+    for (uint32_t i = 0; i < n; ++i) {
+      if (next < valid.size() && valid[next] == i)
+        ++next;
+      else
+        o.primOrder.push_back(i);
+    }
+  }
+  if constexpr (Shape::kLeafOrdered) {
+    auto& stored = Shape::leafOrdered(g);
+    std::remove_reference_t<decltype(stored)> leafOrdered(stored.size());
+    const uint32_t* order = o.leafPrims();
+    for (std::size_t k = 0; k < leafOrdered.size(); ++k) leafOrdered[k] = stored[order[k]];
+    stored = std::move(leafOrdered);
+  }
+  o.dirty = false;
+  return n - valid.size();
+}
+
+}  // namespace
+
+std::size_t Object::rebuild() {
+  return visitShape(*this, [&](auto shape, auto& g) { return rebuildShape<decltype(shape)>(*this, g); });
+}
+
+}  // namespace whitted

@@ -1,0 +1,122 @@
+// An object: the geometry of one shape (a triangle mesh, a sphere set or a capsule set) with its own BVH over its
+// valid primitives, and the leaf order that maps BVH leaf slots to the primitives as given. visitShape() is the one
+// place that turns the object's shape type into its compile-time shape class (shape.h), once per object visit.
+#pragma once
+
+#include "bvh.h"
+#include "shapes.h"
+
+#include <variant>
+
+namespace whitted {
+
+struct Object {
+  /// The geometry; its index is the GeometryType. A committed triangle mesh holds its triangles in BVH leaf order
+  /// (TriangleShape::kLeafOrdered); originalGeometry() gives them back in the order given.
+  std::variant<TriangleMesh, SphereSet, CapsuleSet> geometry;
+  Bvh bvh;
+  /// Leaf slot -> index of the primitive as given, for every primitive: the valid ones in leaf order, then the
+  /// invalid ones in their order. Empty when every primitive is valid: bvh.primIndices() is then that map.
+  std::vector<uint32_t> primOrder;
+  Bounds3 bounds;
+  bool dirty = true;  ///< Geometry replaced since the last rebuild (then nothing is in leaf order).
+  bool alive = true;
+
+  GeometryType type() const { return GeometryType(geometry.index()); }
+  /// Leaf slot -> primitive as given (see primOrder). Valid after a rebuild.
+  const uint32_t* leafPrims() const { return primOrder.empty() ? bvh.primIndices().data() : primOrder.data(); }
+
+  /// Clamps the geometry's colours, builds the BVH over the valid primitives (non-finite and degenerate ones are
+  /// left out) and puts leaf-ordered arrays in leaf order. Returns the number of invalid primitives.
+  std::size_t rebuild();
+  /// True if g (of shape type G) has bit-for-bit the geometry this committed object was built from (see
+  /// Shape::sameGeometry; leaf-ordered arrays are compared through the leaf order). Cost: one pass over it.
+  template <typename G>
+  bool sameGeometry(const G& g) const;
+  /// Replaces the attributes by g's, keeping the geometry (for which sameGeometry(g) holds), BVH and leaf order.
+  template <typename G>
+  void replaceAttributes(G&& g);
+  /// A copy of the geometry as given (leaf-ordered arrays back in their original order), or an empty G if the
+  /// object has another shape.
+  template <typename G>
+  G originalGeometry() const;
+};
+
+/// The shape class of a geometry container.
+template <typename G>
+struct ShapeOf;
+template <>
+struct ShapeOf<TriangleMesh> {
+  using type = TriangleShape;
+};
+template <>
+struct ShapeOf<SphereSet> {
+  using type = SphereShape;
+};
+template <>
+struct ShapeOf<CapsuleSet> {
+  using type = CapsuleShape;
+};
+
+/// Calls fn(Shape{}, geometry) with the object's shape class and its geometry (const if o is): the one switch on
+/// the shape type, so everything fn runs, per-primitive loops included, is compiled for one shape.
+template <typename O, typename Fn>
+decltype(auto) visitShape(O& o, Fn&& fn) {
+  switch (o.type()) {
+    case GeometryType::Triangles:
+      return fn(TriangleShape{}, *std::get_if<TriangleMesh>(&o.geometry));
+    case GeometryType::Spheres:
+      return fn(SphereShape{}, *std::get_if<SphereSet>(&o.geometry));
+    case GeometryType::Capsules:
+      break;
+  }
+  return fn(CapsuleShape{}, *std::get_if<CapsuleSet>(&o.geometry));
+}
+
+template <typename G>
+bool Object::sameGeometry(const G& g) const {
+  using Shape = typename ShapeOf<G>::type;
+  const G* stored = std::get_if<G>(&geometry);
+  if (!alive || dirty || !stored || !Shape::sameGeometry(*stored, g)) return false;
+  if constexpr (Shape::kLeafOrdered) {
+    const auto &mine = Shape::leafOrdered(*stored), &theirs = Shape::leafOrdered(g);
+    if (mine.size() != theirs.size()) return false;
+    const uint32_t* order = leafPrims();
+    for (std::size_t k = 0; k < mine.size(); ++k)
+      if (mine[k] != theirs[order[k]]) return false;
+  }
+  return true;
+}
+
+template <typename G>
+void Object::replaceAttributes(G&& g) {
+  using Shape = typename ShapeOf<std::decay_t<G>>::type;
+  auto& stored = std::get<std::decay_t<G>>(geometry);
+  if constexpr (Shape::kLeafOrdered) {
+    auto leafOrder = std::move(Shape::leafOrdered(stored));
+    stored = std::forward<G>(g);
+    Shape::leafOrdered(stored) = std::move(leafOrder);
+  } else {
+    stored = std::forward<G>(g);
+  }
+  Shape::sanitize(stored);
+}
+
+template <typename G>
+G Object::originalGeometry() const {
+  using Shape = typename ShapeOf<G>::type;
+  const G* stored = std::get_if<G>(&geometry);
+  if (!stored) return G{};
+  G out = *stored;
+  if constexpr (Shape::kLeafOrdered) {
+    if (alive && !dirty) {
+      const auto& leafOrdered = Shape::leafOrdered(*stored);
+      auto& given = Shape::leafOrdered(out);
+      const uint32_t* order = leafPrims();
+      for (std::size_t k = 0; k < leafOrdered.size(); ++k) given[order[k]] = leafOrdered[k];
+    }
+  }
+  return out;
+}
+
+}  // namespace whitted
