@@ -25,7 +25,9 @@ std::size_t rebuildShape(Object& o, typename Shape::Geometry& g) {
     valid.push_back(i);
     o.bounds.extend(box);
   }
-  o.bvh.build(boxes, centroids);
+  BvhBuildOptions opt;
+  opt.quality = o.replaced ? BvhBuildQuality::Fast : BvhBuildQuality::Sah;
+  o.bvh.build(boxes, centroids, opt);
 
   // Leaf order of every primitive (only needed when some are left out: otherwise it is the BVH's own order)
   o.primOrder.clear();

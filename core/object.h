@@ -1,4 +1,4 @@
-// An object: the geometry of one shape (a triangle mesh, a sphere set or a capsule set) with its own BVH over its
+// An object: the geometry of one shape (a triangle mesh, a sphere set or a tube set) with its own BVH over its
 // valid primitives, and the leaf order that maps BVH leaf slots to the primitives as given. visitShape() is the one
 // place that turns the object's shape type into its compile-time shape class (shape.h), once per object visit.
 #pragma once
@@ -13,13 +13,15 @@ namespace whitted {
 struct Object {
   /// The geometry; its index is the GeometryType. A committed triangle mesh holds its triangles in BVH leaf order
   /// (TriangleShape::kLeafOrdered); originalGeometry() gives them back in the order given.
-  std::variant<TriangleMesh, SphereSet, CapsuleSet> geometry;
+  std::variant<TriangleMesh, SphereSet, TubeSet> geometry;
   Bvh bvh;
   /// Leaf slot -> index of the primitive as given, for every primitive: the valid ones in leaf order, then the
   /// invalid ones in their order. Empty when every primitive is valid: bvh.primIndices() is then that map.
   std::vector<uint32_t> primOrder;
   Bounds3 bounds;
   bool dirty = true;  ///< Geometry replaced since the last rebuild (then nothing is in leaf order).
+  /// This object id's geometry had been built before and was replaced since: rebuilt with the fast builder.
+  bool replaced = false;
   bool alive = true;
 
   GeometryType type() const { return GeometryType(geometry.index()); }
@@ -54,8 +56,8 @@ struct ShapeOf<SphereSet> {
   using type = SphereShape;
 };
 template <>
-struct ShapeOf<CapsuleSet> {
-  using type = CapsuleShape;
+struct ShapeOf<TubeSet> {
+  using type = TubeShape;
 };
 
 /// Calls fn(Shape{}, geometry) with the object's shape class and its geometry (const if o is): the one switch on
@@ -67,10 +69,10 @@ decltype(auto) visitShape(O& o, Fn&& fn) {
       return fn(TriangleShape{}, *std::get_if<TriangleMesh>(&o.geometry));
     case GeometryType::Spheres:
       return fn(SphereShape{}, *std::get_if<SphereSet>(&o.geometry));
-    case GeometryType::Capsules:
+    case GeometryType::Tubes:
       break;
   }
-  return fn(CapsuleShape{}, *std::get_if<CapsuleSet>(&o.geometry));
+  return fn(TubeShape{}, *std::get_if<TubeSet>(&o.geometry));
 }
 
 template <typename G>

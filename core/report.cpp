@@ -39,7 +39,7 @@ std::string frameReport(const FrameStats& f, const SceneStats& s, const CommitSt
       (unsigned long long)f.rays.primary, (unsigned long long)f.rays.shadow, (unsigned long long)f.rays.reflection,
       (unsigned long long)f.rays.refraction, mrays, (unsigned long long)f.rays.savedByThreshold,
       (unsigned long long)f.rays.savedByDepth, f.kernelReflection ? "on" : "off", f.kernelRefraction ? "on" : "off",
-      f.kernelShadows ? "on" : "off", s.triangles, s.spheres, s.capsules, s.objects, s.instances, c.invalidPrimitives,
+      f.kernelShadows ? "on" : "off", s.triangles, s.spheres, s.tubes, s.objects, s.instances, c.invalidPrimitives,
       s.bvhNodes, s.bvhBytes / 1048576.0, s.geometryBytes / 1048576.0, f.errorEstimateRms, f.errorEstimateMax);
   out.append(buf, std::size_t(n));
   // Safety nets: what they caught is counted, never silently hidden (all zero for valid input)

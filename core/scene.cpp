@@ -28,17 +28,19 @@ uint32_t Scene::addSpheres(SphereSet s) {
   setSpheres(uint32_t(objects_.size() - 1), std::move(s));
   return uint32_t(objects_.size() - 1);
 }
-uint32_t Scene::addCapsules(CapsuleSet c) {
+uint32_t Scene::addTubes(TubeSet c) {
   objects_.emplace_back();
-  setCapsules(uint32_t(objects_.size() - 1), std::move(c));
+  setTubes(uint32_t(objects_.size() - 1), std::move(c));
   return uint32_t(objects_.size() - 1);
 }
 
 template <typename G>
 void Scene::setGeometry(uint32_t id, G&& g) {
   Object& o = objects_[id];
+  const bool replaced = o.replaced || (o.alive && !o.dirty);  // it had been built
   o = Object{};
   o.geometry = std::forward<G>(g);
+  o.replaced = replaced;
   topDirty_ = true;
 }
 void Scene::setMesh(uint32_t id, TriangleMesh mesh) {
@@ -47,7 +49,7 @@ void Scene::setMesh(uint32_t id, TriangleMesh mesh) {
 void Scene::setSpheres(uint32_t id, SphereSet s) {
   setGeometry(id, std::move(s));
 }
-void Scene::setCapsules(uint32_t id, CapsuleSet c) {
+void Scene::setTubes(uint32_t id, TubeSet c) {
   setGeometry(id, std::move(c));
 }
 
@@ -67,7 +69,7 @@ bool Scene::updateMesh(uint32_t id, TriangleMesh mesh) {
 bool Scene::updateSpheres(uint32_t id, SphereSet s) {
   return updateGeometry(id, std::move(s));
 }
-bool Scene::updateCapsules(uint32_t id, CapsuleSet c) {
+bool Scene::updateTubes(uint32_t id, TubeSet c) {
   return updateGeometry(id, std::move(c));
 }
 void Scene::removeObject(uint32_t id) {
@@ -152,6 +154,7 @@ CommitStats Scene::commit() {
   auto start = std::chrono::steady_clock::now();
   for (Object& o : objects_)
     if (o.alive && o.dirty) {
+      st.objectsFastBuilt += o.replaced;
       st.invalidPrimitives += o.rebuild();
       ++st.objectsRebuilt;
       topDirty_ = true;
@@ -209,7 +212,7 @@ CommitStats Scene::commit() {
     if (maxComponent(m.reflectance) > 0.0f) features_.reflective = true;
     if (maxComponent(m.transmittance) > 0.0f) features_.transmissive = true;
     if (o.type() == GeometryType::Spheres) features_.spheres = true;
-    if (o.type() == GeometryType::Capsules) features_.capsules = true;
+    if (o.type() == GeometryType::Tubes) features_.tubes = true;
     if (!in.identity) features_.transforms = true;
     const TriangleMesh* mesh = std::get_if<TriangleMesh>(&o.geometry);
     if (m.texture >= 0 && size_t(m.texture) < textures_.size() && mesh && !mesh->texcoords.empty())
@@ -236,7 +239,7 @@ SceneStats Scene::stats() const {
       using Shape = decltype(shape);
       std::size_t& count = Shape::kType == GeometryType::Triangles ? s.triangles
                            : Shape::kType == GeometryType::Spheres ? s.spheres
-                                                                   : s.capsules;
+                                                                   : s.tubes;
       count += o.bvh.primIndices().size();
       s.geometryBytes += Shape::bytes(g);
     });

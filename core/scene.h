@@ -26,7 +26,7 @@ struct Features {
   bool transmissive = false;  ///< Some visible material has kt > 0.
   bool shadowLights = false;  ///< Some light casts shadows.
   bool spheres = false;
-  bool capsules = false;
+  bool tubes = false;
   bool transforms = false;  ///< Some visible instance has a non-identity transform.
   bool textures = false;    ///< Some visible material uses a texture with texture coordinates present.
 };
@@ -34,6 +34,10 @@ struct Features {
 /// Counts of what commit() did, for statistics and for tests of caching.
 struct CommitStats {
   int objectsRebuilt = 0;  ///< Per-object BVHs built in this commit.
+  /// Of those, built with the fast (Morton) builder: objects whose geometry was replaced after it had been built
+  /// once (time steps, new contour values), where a geometry change is likely to come again and build time,
+  /// not the last percent of trace speed, decides the frame. First builds use the SAH builder.
+  int objectsFastBuilt = 0;
   bool topLevelRebuilt = false;
   double secondsBuild = 0.0;          ///< Wall time of all BVH builds in this commit.
   std::size_t invalidPrimitives = 0;  ///< Primitives skipped (non-finite or degenerate) in rebuilt objects.
@@ -43,7 +47,7 @@ struct CommitStats {
 
 /// Totals over the scene, for the frame report.
 struct SceneStats {
-  std::size_t triangles = 0, spheres = 0, capsules = 0, objects = 0, instances = 0;
+  std::size_t triangles = 0, spheres = 0, tubes = 0, objects = 0, instances = 0;
   std::size_t bvhNodes = 0, bvhBytes = 0, geometryBytes = 0;
   std::size_t textures = 0;      ///< Textures holding texels (colour maps included).
   std::size_t textureBytes = 0;  ///< Memory of their texels, bytes (allocated capacity).
@@ -55,19 +59,19 @@ class Scene {
   /// Adds geometry; returns its object id. The data is taken by value (move it in).
   uint32_t addMesh(TriangleMesh mesh);
   uint32_t addSpheres(SphereSet spheres);
-  uint32_t addCapsules(CapsuleSet capsules);
+  uint32_t addTubes(TubeSet tubes);
   /// Replaces an object's geometry (marks it for rebuild at the next commit).
   void setMesh(uint32_t object, TriangleMesh mesh);
   void setSpheres(uint32_t object, SphereSet spheres);
-  void setCapsules(uint32_t object, CapsuleSet capsules);
-  /// Replaces an object's data like setMesh / setSpheres / setCapsules, but keeps its BVH when the geometry is
+  void setTubes(uint32_t object, TubeSet tubes);
+  /// Replaces an object's data like setMesh / setSpheres / setTubes, but keeps its BVH when the geometry is
   /// bit-for-bit the one it was built from (triangles: positions and triangles; spheres: centres and radii;
-  /// capsules: end points and radii), so attribute-only edits (colours, colour-map coordinates and map, normals,
+  /// tubes: end points and radii), so attribute-only edits (colours, colour-map coordinates and map, normals,
   /// texture coordinates) rebuild nothing. Returns true if the geometry changed (rebuilt at the next commit).
   /// Cost: one comparison of the geometry arrays.
   bool updateMesh(uint32_t object, TriangleMesh mesh);
   bool updateSpheres(uint32_t object, SphereSet spheres);
-  bool updateCapsules(uint32_t object, CapsuleSet capsules);
+  bool updateTubes(uint32_t object, TubeSet tubes);
   /// Frees an object's data; instances of it become invisible.
   void removeObject(uint32_t object);
   std::size_t objectCount() const { return objects_.size(); }
@@ -75,7 +79,7 @@ class Scene {
   /// A copy of an object's geometry as given (triangles in their original order; empty if of another shape).
   TriangleMesh mesh(uint32_t object) const { return objects_[object].originalGeometry<TriangleMesh>(); }
   SphereSet spheres(uint32_t object) const { return objects_[object].originalGeometry<SphereSet>(); }
-  CapsuleSet capsules(uint32_t object) const { return objects_[object].originalGeometry<CapsuleSet>(); }
+  TubeSet tubes(uint32_t object) const { return objects_[object].originalGeometry<TubeSet>(); }
 
   // Instances ---------------------------------------------------------------------------------------------
   /// Places an object in the world with an object -> world affine transform and a material.
@@ -144,7 +148,7 @@ class Scene {
   /// Transmittance along a shadow ray over (tMin, tMax): zero if an opaque surface blocks it, otherwise the
   /// product of kt of every transmissive surface crossed. A surface crossed once attenuates once: a crossing that
   /// several primitives of one object report (a ray exactly through an edge or vertex shared by triangles, or
-  /// through the joint of two capsules) counts once; boundary hits of one object closer than the sum of their
+  /// through the joint of two tubes) counts once; boundary hits of one object closer than the sum of their
   /// rounding-error bounds (PrimHit::tError) are that one crossing. Stops early once below cutoff (returns zero).
   Color transmittance(const Ray& ray, float cutoff, uint64_t* nodes = nullptr) const;
 
@@ -169,7 +173,7 @@ class Scene {
     }
   };
 
-  /// setMesh / setSpheres / setCapsules and their update variants, for geometry of any shape.
+  /// setMesh / setSpheres / setTubes and their update variants, for geometry of any shape.
   template <typename G>
   void setGeometry(uint32_t object, G&& g);
   template <typename G>

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 using namespace whitted;
 
 namespace {
@@ -49,26 +51,26 @@ TEST(Scene, UpdateMeshKeepsBvhWhenOnlyAttributesChange) {
   EXPECT_TRUE(s.updateMesh(o, m));
   EXPECT_EQ(s.commit().objectsRebuilt, 1);
 
-  // Spheres and capsules alike
+  // Spheres and tubes alike
   SphereSet sp1;
   sp1.centers = {Vec3(3, 0, 0)};
   sp1.radii = {0.5};
   uint32_t so = s.addSpheres(sp1);
-  CapsuleSet cs;
+  TubeSet cs;
   cs.p0 = {Vec3(-3, 0, 0)};
   cs.p1 = {Vec3(-3, 1, 0)};
   cs.radii = {0.2};
-  uint32_t co = s.addCapsules(cs);
+  uint32_t co = s.addTubes(cs);
   s.addInstance(so, Mat4(1.0), 0);
   s.addInstance(co, Mat4(1.0), 0);
   s.commit();
   sp1.colors = {Color4(0, 0, 1, 1)};
   cs.colors0 = {Color4(0, 0, 1, 1)};
   EXPECT_FALSE(s.updateSpheres(so, sp1));
-  EXPECT_FALSE(s.updateCapsules(co, cs));
+  EXPECT_FALSE(s.updateTubes(co, cs));
   EXPECT_EQ(s.commit().objectsRebuilt, 0);
   cs.radii = {0.25};
-  EXPECT_TRUE(s.updateCapsules(co, cs));
+  EXPECT_TRUE(s.updateTubes(co, cs));
   EXPECT_EQ(s.commit().objectsRebuilt, 1);
 }
 
@@ -135,4 +137,55 @@ TEST(Scene, TexturesAreReplacedAndFreedInPlace) {
   EXPECT_EQ(s.stats().textures, 1u);
   EXPECT_EQ(s.stats().textureBytes, 64u * 4u);
   EXPECT_EQ(s.texture(a).sample(0.5f, 0.5f), Color4(1.0f));  // a removed texture samples white
+}
+
+// A geometry change on an object that had been built (a time step, a new contour value) is rebuilt with the fast
+// builder; its first build, and a new object, use the SAH builder. Closest hits through the fast tree equal a
+// brute-force test of every triangle.
+TEST(Scene, ReplacedGeometryIsRebuiltFastAndStillExact) {
+  Scene s;
+  uint32_t o = s.addMesh(makeSphereMesh(Vec3(0.0), 1.0, 24, 12));
+  s.addInstance(o, Mat4(1.0), s.addMaterial(Material{}));
+  CommitStats st = s.commit();
+  EXPECT_EQ(st.objectsRebuilt, 1);
+  EXPECT_EQ(st.objectsFastBuilt, 0);
+
+  const TriangleMesh moved = makeSphereMesh(Vec3(0.2, -0.1, 0.05), 0.9, 32, 16);
+  EXPECT_TRUE(s.updateMesh(o, moved));
+  st = s.commit();
+  EXPECT_EQ(st.objectsRebuilt, 1);
+  EXPECT_EQ(st.objectsFastBuilt, 1);
+
+  uint32_t fresh = s.addMesh(makeSphereMesh(Vec3(5.0, 0.0, 0.0), 1.0, 8, 4));
+  s.addInstance(fresh, Mat4(1.0), 0);
+  st = s.commit();
+  EXPECT_EQ(st.objectsRebuilt, 1);
+  EXPECT_EQ(st.objectsFastBuilt, 0);
+
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> U(-1, 1);
+  int hits = 0;
+  for (int k = 0; k < 2000; ++k) {
+    Ray r;
+    r.origin = Vec3(U(rng), U(rng), 4.0);
+    r.dir = glm::normalize(Vec3(0.3 * U(rng), 0.3 * U(rng), -1.0));
+    double best = kInfinity;
+    uint32_t bestPrim = 0;
+    for (uint32_t i = 0; i < moved.triangles.size(); ++i) {
+      const glm::uvec3& t = moved.triangles[i];
+      auto h = intersectTriangle(r, moved.positions[t.x], moved.positions[t.y], moved.positions[t.z]);
+      if (h && h->t < best) {
+        best = h->t;
+        bestPrim = i;
+      }
+    }
+    Hit h;
+    ASSERT_EQ(s.intersect(r, h), std::isfinite(best));
+    if (std::isfinite(best)) {
+      ++hits;
+      EXPECT_EQ(h.t, best);
+      EXPECT_EQ(h.prim, bestPrim);
+    }
+  }
+  EXPECT_GT(hits, 500);
 }

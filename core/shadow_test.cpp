@@ -1,5 +1,5 @@
 // Shadow-ray transmittance: a surface crossed once attenuates once, also when the ray passes exactly through an
-// edge or vertex shared by several triangles, or through the joint of two capsules of a tube. Each case is built at
+// edge or vertex shared by several triangles, or through the joint of two tubes of a tube. Each case is built at
 // scale 1, 1e-6 and 1e6 and far from the origin (1e7), with rays constructed to pass exactly through the shared
 // edge / vertex / joint centre.
 #include "scene.h"
@@ -114,17 +114,17 @@ TEST(Shadow, PolesOfTriangulatedSphereAttenuateOncePerCrossing) {
   }
 }
 
-// Two capsules of a tube sharing an end point (straight and bent), ray through the joint's centre perpendicular
-// to both axes: it enters and leaves the tube once each, where both capsules' caps and bodies meet.
+// Two tubes of a tube sharing an end point (straight and bent), ray through the joint's centre perpendicular
+// to both axes: it enters and leaves the tube once each, where both tubes' caps and bodies meet.
 TEST(Shadow, TubeJointAttenuatesOncePerCrossing) {
   for (const Similarity& x : kSimilarities) {
     for (Vec3 end : {Vec3(1, 0, 0), Vec3(0.6, 0.8, 0)}) {
-      CapsuleSet cs;
+      TubeSet cs;
       cs.p0 = {x(Vec3(-1, 0, 0)), x(Vec3(0, 0, 0))};
       cs.p1 = {x(Vec3(0, 0, 0)), x(end)};
       cs.radii = {0.25 * x.s};
       Scene s;
-      s.addInstance(s.addCapsules(cs), Mat4(1.0), s.addMaterial(glass()));
+      s.addInstance(s.addTubes(cs), Mat4(1.0), s.addMaterial(glass()));
       Color got = shadow(s, x(Vec3(0, 0, 1)), Vec3(0, 0, -1));
       std::string what = std::string(end.y != 0.0 ? "bent" : "straight") + " tube joint, " + x.name();
       std::printf("[shadow] %s: %g (kt^2 %g)\n", what.c_str(), got.x, kKt.x * kKt.x);
@@ -133,8 +133,8 @@ TEST(Shadow, TubeJointAttenuatesOncePerCrossing) {
   }
 }
 
-// Distinct surfaces are never merged: two sheets of one mesh, or two capsules of one set, a hair apart (1e-9 of
-// the scale), the ray through an edge of each sheet / the end seam of each capsule: one crossing per surface.
+// Distinct surfaces are never merged: two sheets of one mesh, or two tubes of one set, a hair apart (1e-9 of
+// the scale), the ray through an edge of each sheet / the end seam of each tube: one crossing per surface.
 TEST(Shadow, CloseDistinctSheetsAttenuateTwice) {
   for (const Similarity& x : kSimilarities) {
     // Skip where the gap is below the coordinates' resolution (1e-9 at 1e7 rounds to 0 or one ulp)
@@ -151,13 +151,13 @@ TEST(Shadow, CloseDistinctSheetsAttenuateTwice) {
     Color got = shadow(s, x(Vec3(0.25, 0.0, 1.0)), Vec3(0.0, 0.0, -1.0));
     expectCrossings(got, 2, "two sheets 1e-9 apart, " + x.name());
 
-    // Two parallel capsules of one set, 1e-9 apart, ray through the seams at their ends: four crossings
-    CapsuleSet cs;
+    // Two parallel tubes of one set, 1e-9 apart, ray through the seams at their ends: four crossings
+    TubeSet cs;
     cs.p0 = {x(Vec3(-1, 0, 0)), x(Vec3(-1, 0, -0.5 - 1e-9))};
     cs.p1 = {x(Vec3(0, 0, 0)), x(Vec3(0, 0, -0.5 - 1e-9))};
     cs.radii = {0.25 * x.s};
     Scene t;
-    t.addInstance(t.addCapsules(cs), Mat4(1.0), t.addMaterial(glass()));
-    expectCrossings(shadow(t, x(Vec3(0, 0, 1)), Vec3(0, 0, -1)), 4, "two capsules 1e-9 apart, " + x.name());
+    t.addInstance(t.addTubes(cs), Mat4(1.0), t.addMaterial(glass()));
+    expectCrossings(shadow(t, x(Vec3(0, 0, 1)), Vec3(0, 0, -1)), 4, "two tubes 1e-9 apart, " + x.name());
   }
 }

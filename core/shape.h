@@ -1,5 +1,5 @@
 // What every shape shares: the result of a primitive test (PrimHit), a closest hit (Hit) and the surface data
-// at a hit (SurfacePoint). Each shape (shape_triangles.h, shape_spheres.h, shape_capsules.h) provides, in one
+// at a hit (SurfacePoint). Each shape (shape_triangles.h, shape_spheres.h, shape_tubes.h) provides, in one
 // place, its geometry container, its ray intersection routine, and a shape class with the same static interface
 // (validity and bounds of a primitive, a per-ray leaf tester, surface data at a hit) that the scene's traversal
 // is templated on, so the type is dispatched once per object, never per primitive.
@@ -17,20 +17,20 @@
 namespace whitted {
 
 /// The shape of an object's primitives.
-enum class GeometryType : uint8_t { Triangles, Spheres, Capsules };
+enum class GeometryType : uint8_t { Triangles, Spheres, Tubes };
 
 /// Result of a primitive test: ray parameter plus two surface parameters.
-/// Triangles: (u, v) = barycentrics of vertices 1 and 2. Capsules: u = position along the axis in [0,1].
+/// Triangles: (u, v) = barycentrics of vertices 1 and 2. Tubes: u = position along the axis in [0,1].
 struct PrimHit {
   double t;
   double u, v;
   /// Bound on the absolute rounding error of t (ray-parameter units, >= 0): two hits of one crossing computed by
-  /// different primitives differ by at most the sum of their bounds. Triangles and capsules; 0 for spheres.
+  /// different primitives differ by at most the sum of their bounds. Triangles and tubes; 0 for spheres.
   double tError = 0.0;
   /// The hit lies on the primitive's boundary, where a neighbour sharing that boundary can report the same
   /// crossing: a triangle's edge or vertex (an edge function exactly zero, the only case in which the watertight
-  /// test accepts a ray for two triangles), a capsule's end cap or the seam where cap and body meet (where
-  /// consecutive capsules of a tube meet). Default false (spheres never set it).
+  /// test accepts a ray for two triangles), a tube's end cap or the seam where cap and body meet (where
+  /// consecutive tubes of a tube meet). Default false (spheres never set it).
   bool boundary = false;
 };
 

@@ -1,5 +1,5 @@
-// All shapes: triangle meshes, sphere sets and capsule sets, each with its container, ray intersection routine and
-// shape class in its own file pair (shape_triangles, shape_spheres, shape_capsules; shared types in shape.h).
+// All shapes: triangle meshes, sphere sets and tube sets, each with its container, ray intersection routine and
+// shape class in its own file pair (shape_triangles, shape_spheres, shape_tubes; shared types in shape.h).
 //
 // All intersection routines work in double precision and take rays whose direction need not be normalised; t is
 // the ray parameter. Each routine is exact at edges and vertices where the method allows (the triangle test is
@@ -7,6 +7,6 @@
 // the hit to cancellation.
 #pragma once
 
-#include "shape_capsules.h"
+#include "shape_tubes.h"
 #include "shape_spheres.h"
 #include "shape_triangles.h"

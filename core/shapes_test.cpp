@@ -85,26 +85,26 @@ TEST(Sphere, FarOriginNoCancellation) {
   EXPECT_NEAR(h->t, 1e6 - 1e-6, 1e-9);
 }
 
-TEST(Capsule, BodyAndCaps) {
-  // Capsule along x from -1 to 1, radius 0.5
+TEST(Tube, BodyAndCaps) {
+  // Tube along x from -1 to 1, radius 0.5
   Vec3 a(-1, 0, 0), b(1, 0, 0);
-  auto h = intersectCapsule(makeRay(Vec3(0.3, 0, 5), Vec3(0, 0, -1)), a, b, 0.5);
+  auto h = intersectTube(makeRay(Vec3(0.3, 0, 5), Vec3(0, 0, -1)), a, b, 0.5);
   ASSERT_TRUE(h);
   EXPECT_NEAR(h->t, 4.5, 1e-12);
   EXPECT_NEAR(h->u, 0.65, 1e-12);
   // Cap: along the axis from +x
-  h = intersectCapsule(makeRay(Vec3(5, 0, 0), Vec3(-1, 0, 0)), a, b, 0.5);
+  h = intersectTube(makeRay(Vec3(5, 0, 0), Vec3(-1, 0, 0)), a, b, 0.5);
   ASSERT_TRUE(h);
   EXPECT_NEAR(h->t, 3.5, 1e-12);
   // From inside: exits through the body
-  h = intersectCapsule(makeRay(Vec3(0, 0, 0), Vec3(0, 1, 0)), a, b, 0.5);
+  h = intersectTube(makeRay(Vec3(0, 0, 0), Vec3(0, 1, 0)), a, b, 0.5);
   ASSERT_TRUE(h);
   EXPECT_NEAR(h->t, 0.5, 1e-12);
   // Far origin
-  h = intersectCapsule(makeRay(Vec3(0.3, 0, 1e7), Vec3(0, 0, -1)), a, b, 0.5);
+  h = intersectTube(makeRay(Vec3(0.3, 0, 1e7), Vec3(0, 0, -1)), a, b, 0.5);
   ASSERT_TRUE(h);
   EXPECT_NEAR(h->t, 1e7 - 0.5, 1e-7);
-  EXPECT_FALSE(intersectCapsule(makeRay(Vec3(0, 0.6, 5), Vec3(0, 0, -1)), a, b, 0.5));
+  EXPECT_FALSE(intersectTube(makeRay(Vec3(0, 0.6, 5), Vec3(0, 0, -1)), a, b, 0.5));
 }
 
 // Rays aimed exactly at the vertices and edge midpoints of a closed mesh from outside must hit it.

@@ -26,7 +26,7 @@ Vec3 transformError(const Mat4& m, const Vec3& p, const Vec3& e) {
 
 /// Surface crossings of one instance already counted by a shadow ray, to recognise the same crossing reported again
 /// by a neighbouring primitive (a shared edge or vertex, a tube joint). Fixed size, no allocation: boundary hits
-/// are rare (only exact edge/vertex hits of triangles, caps and seams of capsules), and past kSize the oldest
+/// are rare (only exact edge/vertex hits of triangles, caps and seams of tubes), and past kSize the oldest
 /// entries are overwritten (a later duplicate of an overwritten crossing is then counted again).
 class CountedCrossings {
  public:

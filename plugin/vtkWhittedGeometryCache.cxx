@@ -70,7 +70,7 @@ const vtkWhittedGeometryCache::Geometry& vtkWhittedGeometryCache::Get(vtkMapper*
   }
   const bool colorCoords = !c.Mesh.colorCoords.empty();
   const bool has[NumberOfKinds] = { !c.Mesh.triangles.empty(), !c.Spheres.centers.empty(),
-    !c.Capsules.p0.empty() };
+    !c.Tubes.p0.empty() };
   for (int k = 0; k < NumberOfKinds; ++k)
   {
     if (has[k])
@@ -126,7 +126,7 @@ uint32_t vtkWhittedGeometryCache::StoreObject(
         s.updateSpheres(id, std::move(c.Spheres));
         break;
       default:
-        s.updateCapsules(id, std::move(c.Capsules));
+        s.updateTubes(id, std::move(c.Tubes));
         break;
     }
     return id;
@@ -140,7 +140,7 @@ uint32_t vtkWhittedGeometryCache::StoreObject(
       case Spheres:
         return s.addSpheres(std::move(c.Spheres));
       default:
-        return s.addCapsules(std::move(c.Capsules));
+        return s.addTubes(std::move(c.Tubes));
     }
   }
   const uint32_t id = this->FreeObjects.back();
@@ -154,7 +154,7 @@ uint32_t vtkWhittedGeometryCache::StoreObject(
       s.setSpheres(id, std::move(c.Spheres));
       break;
     default:
-      s.setCapsules(id, std::move(c.Capsules));
+      s.setTubes(id, std::move(c.Tubes));
       break;
   }
   return id;

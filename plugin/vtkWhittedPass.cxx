@@ -430,7 +430,7 @@ void vtkWhittedPassInternals::RecordStatistics(
   st->RaysSavedByDepth = rays.savedByDepth;
   st->NumberOfTriangles = scene.triangles;
   st->NumberOfSpheres = scene.spheres;
-  st->NumberOfTubes = scene.capsules;
+  st->NumberOfTubes = scene.tubes;
   st->BVHBytes = scene.bvhBytes;
   st->NumberOfTextures = scene.textures;
   st->TextureBytes = scene.textureBytes;

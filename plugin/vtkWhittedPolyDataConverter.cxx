@@ -412,26 +412,26 @@ void AddSpheres(const PrimitiveInput& in, double radius, whitted::SphereSet& sph
 }
 
 //------------------------------------------------------------------------------
-// Lines as tubes (capsules, so consecutive segments join seamlessly), and in wireframe
+// Lines as tubes (tubes, so consecutive segments join seamlessly), and in wireframe
 // representation every polygon and strip edge once. They need a positive finite radius (LineWidth
 // 0 or NaN gives none).
-void AddTubes(const PrimitiveInput& in, double radius, whitted::CapsuleSet& capsules,
+void AddTubes(const PrimitiveInput& in, double radius, whitted::TubeSet& tubes,
   vtkWhittedPolyDataConverter::Problems& issues)
 {
   const ColorSource& colors = in.Colors;
-  auto addCapsule = [&](vtkIdType a, vtkIdType b, vtkIdType cell)
+  auto addTube = [&](vtkIdType a, vtkIdType b, vtkIdType cell)
   {
-    capsules.p0.push_back(in.Point(a));
-    capsules.p1.push_back(in.Point(b));
+    tubes.p0.push_back(in.Point(a));
+    tubes.p1.push_back(in.Point(b));
     if (colors.PointColors())
     {
-      capsules.colors0.push_back(colors.Point(a));
-      capsules.colors1.push_back(colors.Point(b));
+      tubes.colors0.push_back(colors.Point(a));
+      tubes.colors1.push_back(colors.Point(b));
     }
     else if (colors.CellColors())
     {
-      capsules.colors0.push_back(colors.CellColor(cell));
-      capsules.colors1.push_back(colors.CellColor(cell));
+      tubes.colors0.push_back(colors.CellColor(cell));
+      tubes.colors1.push_back(colors.CellColor(cell));
     }
   };
   const vtkIdType np = in.NumberOfPoints;
@@ -443,7 +443,7 @@ void AddTubes(const PrimitiveInput& in, double radius, whitted::CapsuleSet& caps
       {
         for (vtkIdType i = 0; i + 1 < n; ++i)
         {
-          addCapsule(ids[i], ids[i + 1], cellId);
+          addTube(ids[i], ids[i + 1], cellId);
         }
       });
   }
@@ -457,7 +457,7 @@ void AddTubes(const PrimitiveInput& in, double radius, whitted::CapsuleSet& caps
         (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint64_t>(std::max(a, b));
       if (a != b && edges.insert(key).second)
       {
-        addCapsule(a, b, cell);
+        addTube(a, b, cell);
       }
     };
     in.Cells.ForEachValidCell(CellArrays::Polys, np, issues.InvalidCells,
@@ -482,15 +482,15 @@ void AddTubes(const PrimitiveInput& in, double radius, whitted::CapsuleSet& caps
         }
       });
   }
-  if (!capsules.p0.empty())
+  if (!tubes.p0.empty())
   {
     if (radius > 0.0 && std::isfinite(radius))
     {
-      capsules.radii.assign(1, radius);
+      tubes.radii.assign(1, radius);
     }
     else
     {
-      capsules = whitted::CapsuleSet();
+      tubes = whitted::TubeSet();
       issues.NoTubeRadius = true;
     }
   }
@@ -691,8 +691,8 @@ void vtkWhittedPolyDataConverter::Recentre(Primitives& out)
   };
   add(out.Mesh.positions);
   add(out.Spheres.centers);
-  add(out.Capsules.p0);
-  add(out.Capsules.p1);
+  add(out.Tubes.p0);
+  add(out.Tubes.p1);
   const double diagonal = b.diagonal();
   const double farthest = b.maxAbs();
   // Single-precision bounds near the data are spaced farthest * 2^-23 apart: keep that below
@@ -712,8 +712,8 @@ void vtkWhittedPolyDataConverter::Recentre(Primitives& out)
   };
   shift(out.Mesh.positions);
   shift(out.Spheres.centers);
-  shift(out.Capsules.p0);
-  shift(out.Capsules.p1);
+  shift(out.Tubes.p0);
+  shift(out.Tubes.p1);
   out.Origin = origin;
 }
 
@@ -815,7 +815,7 @@ void vtkWhittedPolyDataConverter::ConvertPrimitives(
 
   const PrimitiveInput in{ poly, points, np, cells, colors, o };
   AddSpheres(in, o.PointSize * radiusScale, out.Spheres, issues);
-  AddTubes(in, o.LineWidth * radiusScale, out.Capsules, issues);
+  AddTubes(in, o.LineWidth * radiusScale, out.Tubes, issues);
   if (o.Representation == VTK_SURFACE)
   {
     AddTriangles(in, out, issues);

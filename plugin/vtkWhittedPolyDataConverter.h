@@ -17,7 +17,7 @@
  * range, direct colours); point or cell colours decided by the scalar mode as the OpenGL mapper
  * does; with InterpolateScalarsBeforeMapping the mapper's colour texture and colour-map
  * coordinates.
- * - Vertex cells become spheres, line cells tubes (capsules), of radius PointSize (LineWidth) times
+ * - Vertex cells become spheres, line cells tubes (tubes), of radius PointSize (LineWidth) times
  * the input's diagonal / 1000 (VTK's OSPRay pass makes the same choice). In points representation
  * every point used by a cell is a sphere; in wireframe representation every polygon / strip edge
  * (once) is a tube.
@@ -35,7 +35,7 @@
 #include "vtkType.h"     // for vtkIdType
 
 #include "material.h" // whitted::Texture
-#include "shapes.h"   // whitted::TriangleMesh, SphereSet, CapsuleSet
+#include "shapes.h"   // whitted::TriangleMesh, SphereSet, TubeSet
 
 #include <tuple> // for std::tuple
 
@@ -98,7 +98,7 @@ public:
   {
     whitted::TriangleMesh Mesh;
     whitted::SphereSet Spheres;
-    whitted::CapsuleSet Capsules;
+    whitted::TubeSet Tubes;
     bool ScalarColors = false; ///< Primitives carry colours mapped from scalars.
     /// InterpolateScalarsBeforeMapping: ColorTexture is the mapper's colour map and the triangles
     /// carry coordinates into it (Mesh.colorCoords; Mesh.colorMap is set when it is stored).

@@ -46,8 +46,8 @@ void setObjectFrom(Scene& scene, uint32_t object, const Scene& source) {
     case GeometryType::Spheres:
       scene.setSpheres(object, SphereSet(source.spheres(object)));
       break;
-    case GeometryType::Capsules:
-      scene.setCapsules(object, CapsuleSet(source.capsules(object)));
+    case GeometryType::Tubes:
+      scene.setTubes(object, TubeSet(source.tubes(object)));
       break;
   }
 }

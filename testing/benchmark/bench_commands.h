@@ -39,7 +39,7 @@ std::vector<int> threadList(const Args& a);
 RenderSettings settingsFrom(const Args& a);
 
 /// Hands object `object` of `source` to `scene` again as fresh geometry (a copy, set with setMesh / setSpheres /
-/// setCapsules), as an adapter without caching would: its BVH is rebuilt at the next commit. source may be scene.
+/// setTubes), as an adapter without caching would: its BVH is rebuilt at the next commit. source may be scene.
 void setObjectFrom(Scene& scene, uint32_t object, const Scene& source);
 
 /// Writes fb as an 8-bit PNG (nothing when path is empty).

@@ -71,8 +71,8 @@ EmbreeScene::EmbreeScene(EmbreeDevice& device, const Scene& scene, RTCBuildQuali
         }
         break;
       }
-      case GeometryType::Capsules: {
-        const CapsuleSet& c = scene.capsules(o);
+      case GeometryType::Tubes: {
+        const TubeSet& c = scene.tubes(o);
         std::size_t n = std::min(c.p0.size(), c.p1.size());
         g = rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
         auto* v = static_cast<float*>(
@@ -86,7 +86,7 @@ EmbreeScene::EmbreeScene(EmbreeDevice& device, const Scene& scene, RTCBuildQuali
             for (int a = 0; a < 3; ++a) v[4 * (2 * k + e) + a] = float(p[a]);
             v[4 * (2 * k + e) + 3] = r;
           }
-          idx[k] = uint32_t(2 * k);  // segments share no vertex: each is a full capsule with both caps
+          idx[k] = uint32_t(2 * k);  // segments share no vertex: each is a full tube with both caps
         }
         break;
       }

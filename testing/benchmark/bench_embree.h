@@ -1,7 +1,7 @@
 // Embree 3 anchor for the benchmark (compiled only when WHITTED_HAVE_EMBREE is defined). Mirrors a committed
 // whitted::Scene: one Embree geometry per instance, geomID == instance index, primID == our primitive index, so
-// hits can be compared one to one. Triangles -> RTC_GEOMETRY_TYPE_TRIANGLE, spheres -> SPHERE_POINT, capsules ->
-// ROUND_LINEAR_CURVE with unshared end points (a cone with both spherical caps = our capsule).
+// hits can be compared one to one. Triangles -> RTC_GEOMETRY_TYPE_TRIANGLE, spheres -> SPHERE_POINT, tubes ->
+// ROUND_LINEAR_CURVE with unshared end points (a cone with both spherical caps = our tube).
 #pragma once
 
 #ifdef WHITTED_HAVE_EMBREE

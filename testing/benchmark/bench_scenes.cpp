@@ -123,13 +123,13 @@ void buildPoints(BenchScene& out, int count) {
 }
 
 void buildTubes(BenchScene& out, int lines, int steps) {
-  // Streamlines of the ABC (Arnold-Beltrami-Childress) flow, integrated with RK4, drawn as capsules
+  // Streamlines of the ABC (Arnold-Beltrami-Childress) flow, integrated with RK4, drawn as tubes
   const double A = std::sqrt(3.0), B = std::sqrt(2.0), C = 1.0;
   auto vel = [&](const Vec3& p) {
     return Vec3(A * std::sin(p.z) + C * std::cos(p.y), B * std::sin(p.x) + A * std::cos(p.z),
                 C * std::sin(p.y) + B * std::cos(p.x));
   };
-  CapsuleSet c;
+  TubeSet c;
   c.radii = {0.025};
   const double dt = 0.02, twoPi = 2.0 * kPi;
   // The flow is periodic: fold every point into the [0, 2 pi)^3 cell and break the tube where it wraps
@@ -161,7 +161,7 @@ void buildTubes(BenchScene& out, int lines, int steps) {
   tm.reflectance = Color(0.15f);
   tm.colorSource = ColorSource::ScalarsAmbientAndDiffuse;
   out.mainMaterial = tm;
-  out.scene.addInstance(out.scene.addCapsules(std::move(c)), Mat4(1.0), out.scene.addMaterial(tm));
+  out.scene.addInstance(out.scene.addTubes(std::move(c)), Mat4(1.0), out.scene.addMaterial(tm));
   out.scene.lights().push_back(pointLight(Vec3(-4.0, 14.0, 12.0)));
   out.scene.background = Color(0.32f, 0.34f, 0.43f);
   Bounds3 b{Vec3(0.0), Vec3(twoPi)};
@@ -249,12 +249,12 @@ void roundSceneToFloat(Scene& scene) {
         scene.setSpheres(o, std::move(s));
         break;
       }
-      case GeometryType::Capsules: {
-        CapsuleSet c = scene.capsules(o);
+      case GeometryType::Tubes: {
+        TubeSet c = scene.tubes(o);
         for (Vec3& p : c.p0) p = toFloat(p);
         for (Vec3& p : c.p1) p = toFloat(p);
         for (double& r : c.radii) r = toFloat(r);
-        scene.setCapsules(o, std::move(c));
+        scene.setTubes(o, std::move(c));
         break;
       }
     }
@@ -386,7 +386,7 @@ bool buildNamed(const std::string& name, const std::vector<std::string>& dataDir
   if (name == "tubes" || name == "tubes-small") {
     bool big = name == "tubes";
     buildTubes(out, big ? 250 : 25, big ? 400 : 100);
-    out.description = std::to_string(out.scene.capsules(0).p0.size()) + " capsules along ABC-flow streamlines";
+    out.description = std::to_string(out.scene.tubes(0).p0.size()) + " tubes along ABC-flow streamlines";
     return true;
   }
   if (name == "glassmirror") {

@@ -37,7 +37,7 @@ int cmdBuild(const Args& a) {
                  "mprims_per_s", "bytes_per_prim", "peak_bytes_per_prim", "primary_mrays", "cpu_seconds_median"});
   bs.scene.commit();
   SceneStats st0 = bs.scene.stats();
-  const std::size_t prims = st0.triangles + st0.spheres + st0.capsules;
+  const std::size_t prims = st0.triangles + st0.spheres + st0.tubes;
   const int allThreads = hardwareThreads();
   RayBatch primary = primaryRays(bs.camera.make(double(tw) / th, bs.scene.bounds()), tw, th);
   RayResults res;

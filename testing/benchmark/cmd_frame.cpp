@@ -38,7 +38,7 @@ int cmdFrame(const Args& a) {
                                "cpu_seconds_median",
                                "pixels_supersampled"});
   SceneStats st = bs.scene.stats();
-  std::size_t prims = st.triangles + st.spheres + st.capsules;
+  std::size_t prims = st.triangles + st.spheres + st.tubes;
   for (const std::string& sz : a.list("sizes", "800x600")) {
     int w = 0, h = 0;
     if (std::sscanf(sz.c_str(), "%dx%d", &w, &h) != 2) continue;

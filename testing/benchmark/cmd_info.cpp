@@ -28,7 +28,7 @@ int cmdInfo(const Args& a) {
   SceneStats st = bs.scene.stats();
   const Material& m = bs.mainMaterial;
   std::printf("{\n  \"scene\": \"%s\",\n  \"description\": \"%s\",\n", bs.name.c_str(), bs.description.c_str());
-  std::printf("  \"triangles\": %zu, \"spheres\": %zu, \"capsules\": %zu,\n", st.triangles, st.spheres, st.capsules);
+  std::printf("  \"triangles\": %zu, \"spheres\": %zu, \"tubes\": %zu,\n", st.triangles, st.spheres, st.tubes);
   std::printf("  \"camera\": {\"eye\": %s, \"focal\": %s, \"up\": %s, \"viewAngle\": %.9g},\n",
               jsonVec(bs.camera.eye).c_str(), jsonVec(bs.camera.focal).c_str(), jsonVec(bs.camera.up).c_str(),
               bs.camera.viewAngle);

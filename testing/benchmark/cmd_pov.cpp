@@ -177,8 +177,8 @@ int cmdPov(const Args& a) {
         }
         break;
       }
-      case GeometryType::Capsules:
-        why = "capsules";
+      case GeometryType::Tubes:
+        why = "tubes";
         break;
     }
   }

@@ -43,7 +43,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   double radius = r.d();
   if (auto h = intersectSphere(ray, p0, radius)) CHECK(h->t > ray.tMin && h->t < ray.tMax);
-  if (auto h = intersectCapsule(ray, p0, p1, radius)) CHECK(h->t > ray.tMin && h->t < ray.tMax);
+  if (auto h = intersectTube(ray, p0, p1, radius)) CHECK(h->t > ray.tMin && h->t < ray.tMax);
 
   // A small mesh from the remaining bytes: BVH closest hit must equal brute force
   TriangleMesh m;

@@ -47,13 +47,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       }
       obj = scene.addSpheres(std::move(s));
     } else {
-      CapsuleSet c;
+      TubeSet c;
       for (int i = 0; i < count + 1; ++i) {
         c.p0.push_back(r.v3());
         c.p1.push_back(r.v3());
       }
       c.radii.push_back(r.d());
-      obj = scene.addCapsules(std::move(c));
+      obj = scene.addTubes(std::move(c));
     }
     Material m;
     m.ambient = r.f();

@@ -211,12 +211,12 @@ TEST(Stability, ThinSlabsTinyHugeAndFarPrimitives) {
       SphereSet sp;
       sp.centers = {Vec3(offset, -offset, offset)};
       sp.radii = {radius};
-      CapsuleSet cs;
+      TubeSet cs;
       cs.p0 = {Vec3(offset, -offset, offset) + Vec3(0, 0, -3 * radius)};
       cs.p1 = {Vec3(offset, -offset, offset) + Vec3(0, 0, -3 * radius) + Vec3(radius * 10, 0, 0)};
       cs.radii = {radius};
       s.addInstance(s.addSpheres(sp), Mat4(1.0), s.addMaterial(Material{}));
-      s.addInstance(s.addCapsules(cs), Mat4(1.0), s.addMaterial(Material{}));
+      s.addInstance(s.addTubes(cs), Mat4(1.0), s.addMaterial(Material{}));
       s.commit();
       Ray r;
       r.origin = Vec3(offset + 0.5 * radius, -offset, offset + 10 * radius);
@@ -391,11 +391,11 @@ TEST(Stability, BadInputIsSkippedAndTheRestRenders) {
     EXPECT_EQ(m.ior, 1.0f);
     EXPECT_EQ(m.opacity, 1.0f);
     EXPECT_TRUE(std::isfinite(m.reflectance.x));
-    CapsuleSet cs;
+    TubeSet cs;
     cs.p0 = {Vec3(0, 0, inf)};
     cs.p1 = {Vec3(0, 0, 0)};
     cs.radii = {1.0};
-    s.addInstance(s.addCapsules(cs), Mat4(1.0), s.addMaterial(m));
+    s.addInstance(s.addTubes(cs), Mat4(1.0), s.addMaterial(m));
   };
   Scene good, bad;
   build(good, false);
@@ -406,7 +406,7 @@ TEST(Stability, BadInputIsSkippedAndTheRestRenders) {
   }
   good.commit();
   CommitStats cst = bad.commit();
-  EXPECT_EQ(cst.invalidPrimitives, 4u /*triangles*/ + 3u /*spheres*/ + 1u /*capsule*/);
+  EXPECT_EQ(cst.invalidPrimitives, 4u /*triangles*/ + 3u /*spheres*/ + 1u /*tube*/);
   Camera cam = Camera::perspective(Vec3(0, 0, 5), Vec3(0), Vec3(0, 1, 0), 30, 1, 0.1, 100);
   FrameBuffer a, b;
   render(good, cam, RenderSettings{}, 40, 40, a);

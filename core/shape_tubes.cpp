@@ -1,4 +1,4 @@
-#include "shape_capsules.h"
+#include "shape_tubes.h"
 
 #include <algorithm>
 #include <utility>
@@ -41,14 +41,14 @@ double quadraticRootError(double a, double disc, double radius, double e) {
 
 }  // namespace
 
-std::optional<PrimHit> intersectCapsule(const Ray& ray, const Vec3& pa, const Vec3& pb, double radius) {
+std::optional<PrimHit> intersectTube(const Ray& ray, const Vec3& pa, const Vec3& pb, double radius) {
   if (!(radius > 0.0)) return std::nullopt;
   double a0 = glm::dot(ray.dir, ray.dir);
   if (!(a0 > 0.0)) return std::nullopt;
   Vec3 axis = pb - pa;
   double len2 = glm::dot(axis, axis);
   const double len = std::sqrt(len2);
-  const bool point = len2 == 0.0;  // a zero-length capsule is a sphere: its one cap, u = 0
+  const bool point = len2 == 0.0;  // a zero-length tube is a sphere: its one cap, u = 0
 
   // Re-centre the origin at the ray's closest approach to the segment midpoint to avoid cancellation
   Vec3 mid = 0.5 * (pa + pb);
@@ -89,7 +89,7 @@ std::optional<PrimHit> intersectCapsule(const Ray& ray, const Vec3& pa, const Ve
     }
   }
 
-  // Spherical caps, each valid only on its own side of the body (a point capsule: its two identical caps are
+  // Spherical caps, each valid only on its own side of the body (a point tube: its two identical caps are
   // the whole sphere; the second finds nothing closer)
   for (int e = 0; e < 2; ++e) {
     const Vec3& c = e ? pb : pa;
@@ -97,7 +97,7 @@ std::optional<PrimHit> intersectCapsule(const Ray& ray, const Vec3& pa, const Ve
     double hb = glm::dot(f, ray.dir);
     if (solveQuadraticHalfB(a0, hb, glm::dot(f, f) - radius * radius, t0, t1, disc)) {
       for (double t : {t0, t1}) {
-        double y = glm::dot(o + t * ray.dir - pa, axis) / len2;  // NaN for a point capsule
+        double y = glm::dot(o + t * ray.dir - pa, axis) / len2;  // NaN for a point tube
         if (point || (e == 0 && y <= 0.0) || (e == 1 && y >= 1.0)) consider(t, e ? 1.0 : 0.0, a0, disc, true);
       }
     }
@@ -117,12 +117,12 @@ std::optional<PrimHit> intersectCapsule(const Ray& ray, const Vec3& pa, const Ve
   // Factor 2: margin over the first-order bound
   double err =
       2.0 * quadraticRootError(bestA, bestDisc, radius, e) + gammaBound(2) * (std::abs(bestLocal) + std::abs(tShift));
-  // A body hit within its error of an end lies on the seam where the next capsule's cap meets this body
+  // A body hit within its error of an end lies on the seam where the next tube's cap meets this body
   bool boundary = bestCap || std::min(bestU, 1.0 - bestU) * len <= e + err * std::sqrt(a0);
   return PrimHit{best, bestU, 0.0, err, boundary};
 }
 
-bool CapsuleShape::bounds(const CapsuleSet& c, uint32_t i, Bounds3& box) {
+bool TubeShape::bounds(const TubeSet& c, uint32_t i, Bounds3& box) {
   if (i >= c.p0.size() || i >= c.p1.size()) return false;
   double r = radiusAt(c.radii, i);
   if (!isFinite(c.p0[i]) || !isFinite(c.p1[i]) || !(r > 0.0) || !std::isfinite(r)) return false;
@@ -130,12 +130,12 @@ bool CapsuleShape::bounds(const CapsuleSet& c, uint32_t i, Bounds3& box) {
   return true;
 }
 
-void CapsuleShape::surface(const CapsuleSet& cs, const Hit& hit, const Ray& r, const std::vector<Texture>&,
+void TubeShape::surface(const TubeSet& cs, const Hit& hit, const Ray& r, const std::vector<Texture>&,
                            SurfacePoint& sp) {
   const Vec3 &a = cs.p0[hit.prim], &b = cs.p1[hit.prim];
   double rad = radiusAt(cs.radii, hit.prim);
   Vec3 q = r.origin + hit.t * r.dir;
-  // Re-project onto the capsule: the closest axis point, pushed out by the radius
+  // Re-project onto the tube: the closest axis point, pushed out by the radius
   Vec3 ab = b - a;
   double len2 = glm::dot(ab, ab);
   double u = len2 > 0.0 ? std::clamp(glm::dot(q - a, ab) / len2, 0.0, 1.0) : 0.0;
