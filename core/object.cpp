@@ -53,7 +53,38 @@ std::size_t rebuildShape(Object& o, typename Shape::Geometry& g) {
   return n - valid.size();
 }
 
+template <typename Shape>
+bool refitShape(Object& o, typename Shape::Geometry& g) {
+  Shape::sanitize(g);
+  const std::size_t n = Shape::count(g);
+  const std::vector<uint32_t>& order = o.bvh.primIndices();  // leaf slot -> primitive (all were valid)
+  if (!o.primOrder.empty() || order.size() != n) return false;
+  std::vector<Bounds3> boxes(n);
+  Bounds3 all, box;
+  for (uint32_t k = 0; k < n; ++k) {
+    const uint32_t p = order[k];
+    if (!Shape::bounds(g, Shape::kLeafOrdered ? k : p, box)) return false;
+    boxes[p] = box;
+    all.extend(box);
+  }
+  o.bvh.refit(boxes);
+  o.bounds = all;
+  return true;
+}
+
 }  // namespace
+
+bool Object::refit() {
+  return visitShape(*this, [&](auto shape, auto& g) { return refitShape<decltype(shape)>(*this, g); });
+}
+
+void Object::markForRebuild() {
+  visitShape(*this, [&](auto, auto& g) {
+    using G = std::decay_t<decltype(g)>;
+    g = originalGeometry<G>();
+  });
+  dirty = replaced = true;
+}
 
 std::size_t Object::rebuild() {
   return visitShape(*this, [&](auto shape, auto& g) { return rebuildShape<decltype(shape)>(*this, g); });

@@ -22,6 +22,8 @@ struct Object {
   bool dirty = true;  ///< Geometry replaced since the last rebuild (then nothing is in leaf order).
   /// This object id's geometry had been built before and was replaced since: rebuilt with the fast builder.
   bool replaced = false;
+  /// New positions on the same topology since the last build (see sameTopology): commit refits the BVH.
+  bool refitPending = false;
   bool alive = true;
 
   GeometryType type() const { return GeometryType(geometry.index()); }
@@ -35,6 +37,16 @@ struct Object {
   /// Shape::sameGeometry; leaf-ordered arrays are compared through the leaf order). Cost: one pass over it.
   template <typename G>
   bool sameGeometry(const G& g) const;
+  /// True if g (of shape type G) has this committed object's topology: the same number of primitives, the same
+  /// leaf-ordered arrays (a mesh's triangles, compared through the leaf order), and every primitive was valid when
+  /// the BVH was built. Then only positions (or radii) differ, and refit() can keep the tree. Cost: one pass.
+  template <typename G>
+  bool sameTopology(const G& g) const;
+  /// Recomputes the BVH's boxes bottom-up for the current geometry (same topology, same leaf order). Returns false
+  /// and changes nothing if some primitive is no longer valid (then the caller rebuilds).
+  bool refit();
+  /// Puts leaf-ordered arrays back in the order given and marks the object for a (fast) rebuild.
+  void markForRebuild();
   /// Replaces the attributes by g's, keeping the geometry (for which sameGeometry(g) holds), BVH and leaf order.
   template <typename G>
   void replaceAttributes(G&& g);
@@ -80,6 +92,21 @@ bool Object::sameGeometry(const G& g) const {
   using Shape = typename ShapeOf<G>::type;
   const G* stored = std::get_if<G>(&geometry);
   if (!alive || dirty || !stored || !Shape::sameGeometry(*stored, g)) return false;
+  if constexpr (Shape::kLeafOrdered) {
+    const auto &mine = Shape::leafOrdered(*stored), &theirs = Shape::leafOrdered(g);
+    if (mine.size() != theirs.size()) return false;
+    const uint32_t* order = leafPrims();
+    for (std::size_t k = 0; k < mine.size(); ++k)
+      if (mine[k] != theirs[order[k]]) return false;
+  }
+  return true;
+}
+
+template <typename G>
+bool Object::sameTopology(const G& g) const {
+  using Shape = typename ShapeOf<G>::type;
+  const G* stored = std::get_if<G>(&geometry);
+  if (!alive || dirty || !stored || !primOrder.empty() || Shape::count(*stored) != Shape::count(g)) return false;
   if constexpr (Shape::kLeafOrdered) {
     const auto &mine = Shape::leafOrdered(*stored), &theirs = Shape::leafOrdered(g);
     if (mine.size() != theirs.size()) return false;

@@ -56,12 +56,19 @@ void Scene::setTubes(uint32_t id, TubeSet c) {
 template <typename G>
 bool Scene::updateGeometry(uint32_t id, G&& g) {
   Object& o = objects_[id];
-  if (!o.sameGeometry(g)) {
-    setGeometry(id, std::forward<G>(g));
+  if (o.sameGeometry(g)) {
+    o.replaceAttributes(std::forward<G>(g));  // the BVH, leaf order and bounds stay valid
+    return false;
+  }
+  if (o.sameTopology(g)) {
+    // Moved points on the same connectivity (a deforming mesh's time step): the tree is refit at commit
+    o.replaceAttributes(std::forward<G>(g));
+    o.refitPending = true;
+    topDirty_ = true;
     return true;
   }
-  o.replaceAttributes(std::forward<G>(g));  // the BVH, leaf order and bounds stay valid
-  return false;
+  setGeometry(id, std::forward<G>(g));
+  return true;
 }
 bool Scene::updateMesh(uint32_t id, TriangleMesh mesh) {
   return updateGeometry(id, std::move(mesh));
@@ -152,13 +159,23 @@ void Scene::forEachVisibleInstance(Fn&& fn) const {
 CommitStats Scene::commit() {
   CommitStats st;
   auto start = std::chrono::steady_clock::now();
-  for (Object& o : objects_)
+  for (Object& o : objects_) {
+    if (o.alive && o.refitPending && !o.dirty) {
+      o.refitPending = false;
+      if (o.refit()) {
+        ++st.objectsRefit;
+        topDirty_ = true;
+        continue;
+      }
+      o.markForRebuild();  // a primitive became invalid: rebuilt (fast) below
+    }
     if (o.alive && o.dirty) {
       st.objectsFastBuilt += o.replaced;
       st.invalidPrimitives += o.rebuild();
       ++st.objectsRebuilt;
       topDirty_ = true;
     }
+  }
 
   if (topDirty_) {
     std::vector<Bounds3> boxes;

@@ -38,6 +38,9 @@ struct CommitStats {
   /// once (time steps, new contour values), where a geometry change is likely to come again and build time,
   /// not the last percent of trace speed, decides the frame. First builds use the SAH builder.
   int objectsFastBuilt = 0;
+  /// Objects whose points moved on unchanged connectivity (a deforming mesh's time step): BVH boxes refit
+  /// bottom-up, no rebuild (not counted in objectsRebuilt).
+  int objectsRefit = 0;
   bool topLevelRebuilt = false;
   double secondsBuild = 0.0;          ///< Wall time of all BVH builds in this commit.
   std::size_t invalidPrimitives = 0;  ///< Primitives skipped (non-finite or degenerate) in rebuilt objects.

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 using namespace whitted;
@@ -47,9 +48,9 @@ TEST(Scene, UpdateMeshKeepsBvhWhenOnlyAttributesChange) {
   SurfacePoint sp = s.surface(r, h);
   EXPECT_EQ(sp.color, Color4(0, 1, 0, 1));
 
-  m.positions[5].x += 1e-12;  // any change of geometry rebuilds
+  m.positions[5].x += 1e-12;  // any change of geometry updates the BVH (same triangles: refit)
   EXPECT_TRUE(s.updateMesh(o, m));
-  EXPECT_EQ(s.commit().objectsRebuilt, 1);
+  EXPECT_EQ(s.commit().objectsRefit, 1);
 
   // Spheres and tubes alike
   SphereSet sp1;
@@ -70,6 +71,10 @@ TEST(Scene, UpdateMeshKeepsBvhWhenOnlyAttributesChange) {
   EXPECT_FALSE(s.updateTubes(co, cs));
   EXPECT_EQ(s.commit().objectsRebuilt, 0);
   cs.radii = {0.25};
+  EXPECT_TRUE(s.updateTubes(co, cs));
+  EXPECT_EQ(s.commit().objectsRefit, 1);
+  cs.p0.push_back(Vec3(-3, 1, 0));  // one tube more: rebuilt
+  cs.p1.push_back(Vec3(-2, 1, 0));
   EXPECT_TRUE(s.updateTubes(co, cs));
   EXPECT_EQ(s.commit().objectsRebuilt, 1);
 }
@@ -188,4 +193,67 @@ TEST(Scene, ReplacedGeometryIsRebuiltFastAndStillExact) {
     }
   }
   EXPECT_GT(hits, 500);
+}
+
+// Moved points on the same triangles (a deforming mesh's time step) refit the BVH instead of rebuilding it, and
+// closest hits through the refit tree equal a brute-force test; a point moved to infinity (an invalid triangle)
+// falls back to a rebuild, and hits stay exact.
+TEST(Scene, MovedPointsOnSameTrianglesAreRefit) {
+  Scene s;
+  TriangleMesh m = makeSphereMesh(Vec3(0.0), 1.0, 24, 12);
+  m.triangleColors.assign(m.triangles.size(), Color4(1.0f));
+  uint32_t o = s.addMesh(m);
+  s.addInstance(o, Mat4(1.0), s.addMaterial(Material{}));
+  s.commit();
+
+  auto checkAgainstBruteForce = [&](const TriangleMesh& mesh) {
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> U(-1, 1);
+    int hits = 0;
+    for (int k = 0; k < 2000; ++k) {
+      Ray r;
+      r.origin = Vec3(1.5 * U(rng), 1.5 * U(rng), 4.0);
+      r.dir = glm::normalize(Vec3(0.2 * U(rng), 0.2 * U(rng), -1.0));
+      double best = kInfinity;
+      uint32_t bestPrim = 0;
+      for (uint32_t i = 0; i < mesh.triangles.size(); ++i) {
+        const glm::uvec3& t = mesh.triangles[i];
+        if (!isFinite(mesh.positions[t.x]) || !isFinite(mesh.positions[t.y]) || !isFinite(mesh.positions[t.z]))
+          continue;
+        auto h = intersectTriangle(r, mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z]);
+        if (h && h->t < best) {
+          best = h->t;
+          bestPrim = i;
+        }
+      }
+      Hit h;
+      EXPECT_EQ(s.intersect(r, h), std::isfinite(best));
+      if (std::isfinite(best)) {
+        ++hits;
+        EXPECT_EQ(h.t, best);
+        EXPECT_EQ(h.prim, bestPrim);
+        EXPECT_EQ(s.surface(r, h).color, mesh.triangleColors[bestPrim]);
+      }
+    }
+    EXPECT_GT(hits, 500);
+  };
+
+  // A wave over the sphere and a shift: every box moves
+  for (Vec3& p : m.positions) p = p * (1.0 + 0.2 * std::sin(3.0 * p.y)) + Vec3(0.3, -0.2, 0.1);
+  for (std::size_t i = 0; i < m.triangleColors.size(); ++i) m.triangleColors[i] = Color4(float(i % 7) / 7.0f, 0, 0, 1);
+  EXPECT_TRUE(s.updateMesh(o, m));
+  CommitStats st = s.commit();
+  EXPECT_EQ(st.objectsRefit, 1);
+  EXPECT_EQ(st.objectsRebuilt, 0);
+  EXPECT_TRUE(st.topLevelRebuilt);
+  checkAgainstBruteForce(m);
+  EXPECT_EQ(s.mesh(o).triangles, m.triangles);  // the order given, as before
+
+  m.positions[3].x = kInfinity;  // its triangles become invalid: rebuilt instead
+  EXPECT_TRUE(s.updateMesh(o, m));
+  st = s.commit();
+  EXPECT_EQ(st.objectsRefit, 0);
+  EXPECT_EQ(st.objectsRebuilt, 1);
+  EXPECT_GT(st.invalidPrimitives, 0u);
+  checkAgainstBruteForce(m);
 }

@@ -14,7 +14,7 @@ void vtkWhittedFrameStatistics::Reset()
   this->NumberOfTriangles = this->NumberOfSpheres = this->NumberOfTubes = 0;
   this->BVHBytes = this->NumberOfTextures = this->TextureBytes = 0;
   this->Size[0] = this->Size[1] = 0;
-  this->NumberOfGeometriesConverted = this->NumberOfObjectsRebuilt = 0;
+  this->NumberOfGeometriesConverted = this->NumberOfObjectsRebuilt = this->NumberOfObjectsRefit = 0;
   this->TopLevelRebuilt = false;
   this->NumberOfTracedActors = this->NumberOfOpenGLProps = 0;
   this->NumberOfSafetyNetCatches = 0;
@@ -46,6 +46,7 @@ void vtkWhittedFrameStatistics::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Size: " << this->Size[0] << " " << this->Size[1] << "\n";
   os << indent << "NumberOfGeometriesConverted: " << this->NumberOfGeometriesConverted << "\n";
   os << indent << "NumberOfObjectsRebuilt: " << this->NumberOfObjectsRebuilt << "\n";
+  os << indent << "NumberOfObjectsRefit: " << this->NumberOfObjectsRefit << "\n";
   os << indent << "TopLevelRebuilt: " << this->TopLevelRebuilt << "\n";
   os << indent << "NumberOfTracedActors: " << this->NumberOfTracedActors << "\n";
   os << indent << "NumberOfOpenGLProps: " << this->NumberOfOpenGLProps << "\n";

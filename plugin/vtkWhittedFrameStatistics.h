@@ -70,11 +70,14 @@ public:
   ///@{
   /**
    * Caching: how many geometries (a mapper's input, or one block of a composite input) were
-   * converted again, how many object BVHs were built, whether the top-level BVH over the instances
-   * was rebuilt; how many props were traced and how many were left to OpenGL.
+   * converted again, how many object BVHs were built, how many were refit (points moved on the
+   * same connectivity, e.g. a deforming mesh's time step: boxes updated, no rebuild), whether the
+   * top-level BVH over the instances was rebuilt; how many props were traced and how many were left
+   * to OpenGL.
    */
   vtkGetMacro(NumberOfGeometriesConverted, int);
   vtkGetMacro(NumberOfObjectsRebuilt, int);
+  vtkGetMacro(NumberOfObjectsRefit, int);
   vtkGetMacro(TopLevelRebuilt, bool);
   vtkGetMacro(NumberOfTracedActors, int);
   vtkGetMacro(NumberOfOpenGLProps, int);
@@ -134,6 +137,7 @@ protected:
   int Size[2] = { 0, 0 };
   int NumberOfGeometriesConverted = 0;
   int NumberOfObjectsRebuilt = 0;
+  int NumberOfObjectsRefit = 0;
   bool TopLevelRebuilt = false;
   int NumberOfTracedActors = 0;
   int NumberOfOpenGLProps = 0;

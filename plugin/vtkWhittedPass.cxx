@@ -438,6 +438,7 @@ void vtkWhittedPassInternals::RecordStatistics(
   st->Size[1] = this->Frame.height;
   st->NumberOfGeometriesConverted = r.Conversion.GeometriesConverted;
   st->NumberOfObjectsRebuilt = r.Commit.objectsRebuilt;
+  st->NumberOfObjectsRefit = r.Commit.objectsRefit;
   st->TopLevelRebuilt = r.Commit.topLevelRebuilt;
   st->NumberOfTracedActors = r.Conversion.TracedActors;
   st->NumberOfOpenGLProps = static_cast<int>(r.Conversion.OpenGLProps.size());

@@ -13,16 +13,18 @@
 namespace
 {
 bool Check(vtkRenderWindow* win, vtkWhittedPass* pass, const char* what, int converted, int rebuilt,
-  bool top)
+  bool top, int refit = 0)
 {
   vtkWhittedFrameStatistics* stats = pass->GetLastFrameStatistics();
   win->Render();
   const bool ok = stats->GetNumberOfGeometriesConverted() == converted &&
-    stats->GetNumberOfObjectsRebuilt() == rebuilt && stats->GetTopLevelRebuilt() == top;
-  std::printf("%-40s converted %d (want %d), object BVHs %d (want %d), top level %s (want %s)%s\n",
+    stats->GetNumberOfObjectsRebuilt() == rebuilt && stats->GetNumberOfObjectsRefit() == refit &&
+    stats->GetTopLevelRebuilt() == top;
+  std::printf(
+    "%-40s converted %d (want %d), object BVHs %d (want %d), refit %d (want %d), top level %s (want %s)%s\n",
     what, stats->GetNumberOfGeometriesConverted(), converted, stats->GetNumberOfObjectsRebuilt(),
-    rebuilt, stats->GetTopLevelRebuilt() ? "rebuilt" : "kept", top ? "rebuilt" : "kept",
-    ok ? "" : "   <-- FAIL");
+    rebuilt, stats->GetNumberOfObjectsRefit(), refit, stats->GetTopLevelRebuilt() ? "rebuilt" : "kept",
+    top ? "rebuilt" : "kept", ok ? "" : "   <-- FAIL");
   return ok;
 }
 }
@@ -78,6 +80,8 @@ int TestWhittedCaching(int, char*[])
   ok &= Check(win, pass, "background changed", 0, 0, false);
   source->SetThetaResolution(12);
   ok &= Check(win, pass, "input changed (one shared geometry)", 1, 1, true);
+  source->SetCenter(0, 1.1, 0);  // the same triangles, moved: boxes refit, no rebuild
+  ok &= Check(win, pass, "points moved (same connectivity)", 1, 0, true, 1);
   vtkNew<vtkActor> c;
   c->SetMapper(mapper);
   c->SetPosition(0, 0, -1.5);
