@@ -4,7 +4,7 @@
 
 #include "math.h"
 
-#include <xmmintrin.h>  // SSE: part of every x86-64 CPU (Debian 12's baseline)
+#include <emmintrin.h>  // SSE2: part of every x86-64 CPU (Debian 12's baseline)
 
 #include <cstddef>
 #include <vector>
@@ -52,11 +52,11 @@ struct BvhBuildOptions {
 /// direction scaled by a power of two (so t' = t * tScale exactly), each rounded so that every computed entry
 /// distance is at most, and every exit distance at least, the exact one of the double-precision ray (Embree's
 /// robust mode, extended to a double ray): per axis the origin is rounded up for one plane and down for the other,
-/// and the reciprocal direction toward zero for the near plane and away from zero for the far plane, by a margin
-/// (2^-20) that covers the float subtraction's and product's rounding (2^-24 each). Overflow stays conservative:
-/// a near reciprocal saturates at FLT_MAX, a far one may be infinite, and an origin beyond float range rounds to
-/// +-FLT_MAX or +-inf on the conservative side. NaN products (0 * inf: an origin on a face plane of a parallel
-/// ray) are ignored by the min/max, which keeps such a ray (conservative).
+/// and the reciprocal direction toward zero for the near plane and away from zero for the far plane, by margins
+/// that cover the float subtraction's and product's rounding (2^-24 each). Overflow stays conservative: a near
+/// reciprocal saturates at FLT_MAX, a far one may be infinite, and an origin beyond float range becomes +-FLT_MAX
+/// or +-inf on the conservative side. A NaN far product (0 * inf: an origin on a face plane of a parallel ray) is
+/// ignored by the slab test, which keeps such a ray (conservative). Computed for the three axes at once (SSE2).
 struct BoxRay {
   __m128 orgNear[3], orgFar[3], invNear[3], invFar[3];
   int nearBound[3], farBound[3];  ///< Index into BvhWideNode::b of the near / far plane per axis.
@@ -73,23 +73,54 @@ struct BoxRay {
     double s;  // d' = d * s = d * 2^-e, and t' = t * 2^e
     std::memcpy(&s, &sBits, sizeof s);
     std::memcpy(&tScale, &tBits, sizeof tScale);
-    constexpr double kMargin = 0x1p-20;
-    for (int a = 0; a < 3; ++a) {
-      const double d = r.dir[a] * s;
-      const bool negative = std::signbit(d);
-      nearBound[a] = negative ? 3 + a : a;
-      farBound[a] = negative ? a : 3 + a;
-      // o - anchor carries one double rounding, which floatAbove / floatBelow (strictly above / below) cover
-      const double o = r.origin[a] - anchor[a];
-      orgNear[a] = _mm_set1_ps(negative ? floatBelow(o) : floatAbove(o));
-      orgFar[a] = _mm_set1_ps(negative ? floatAbove(o) : floatBelow(o));
-      const double inv = d != 0.0 ? 1.0 / d : std::copysign(kInfinity, d);
-      const double nearMag = std::min(std::abs(inv) * (1.0 - kMargin), double(std::numeric_limits<float>::max()));
-      const double farMag = std::abs(inv) * (1.0 + kMargin);
-      const float nearF = std::min(floatBelow(nearMag), std::numeric_limits<float>::max());
-      const float farF = floatAbove(farMag);
-      invNear[a] = _mm_set1_ps(negative ? -std::max(nearF, 0.0f) : std::max(nearF, 0.0f));
-      invFar[a] = _mm_set1_ps(negative ? -farF : farF);
+    // Three axes at once (SSE2), branch-free: lanes x, y, z (lane 3 unused)
+    const __m128d sV = _mm_set1_pd(s);
+    const __m128d dXY = _mm_mul_pd(_mm_loadu_pd(&r.dir.x), sV), dZ = _mm_mul_sd(_mm_load_sd(&r.dir.z), sV);
+    // The origin relative to the anchor, rounded to the nearest float f, then stepped out by |f| 2^-22 (at least
+    // 1.5 ulp of f after the step's own rounding: more than the nearest rounding's 0.5 ulp plus the subtraction's
+    // one double rounding) plus FLT_MIN (zero and denormals). Beyond float range: +-inf on the outer side,
+    // +-FLT_MAX on the inner one (a NaN from inf - inf is replaced by the clamp: min/max return the bound).
+    const __m128 o = _mm_movelh_ps(_mm_cvtpd_ps(_mm_sub_pd(_mm_loadu_pd(&r.origin.x), _mm_loadu_pd(&anchor.x))),
+                                   _mm_cvtpd_ps(_mm_sub_sd(_mm_load_sd(&r.origin.z), _mm_load_sd(&anchor.z))));
+    const __m128 signBit = _mm_set1_ps(-0.0f), fltMax = _mm_set1_ps(std::numeric_limits<float>::max());
+    const __m128 step = _mm_add_ps(_mm_mul_ps(_mm_andnot_ps(signBit, o), _mm_set1_ps(0x1p-22f)),
+                                   _mm_set1_ps(std::numeric_limits<float>::min()));
+    const __m128 up = _mm_max_ps(_mm_add_ps(o, step), _mm_xor_ps(fltMax, signBit));
+    const __m128 down = _mm_min_ps(_mm_sub_ps(o, step), fltMax);
+    // Reciprocals (1 / +-0 = +-inf), magnitudes shrunk / grown by 2^-19 before the float conversion, whose
+    // rounding (2^-24) leaves more than the 2^-23 that the float subtraction and product need. The near one
+    // saturates at FLT_MAX, the far one may overflow to inf.
+    const __m128d one = _mm_set1_pd(1.0), signD = _mm_set1_pd(-0.0);
+    const __m128d invXY = _mm_div_pd(one, dXY), invZ = _mm_div_sd(one, dZ);
+    const __m128d absXY = _mm_andnot_pd(signD, invXY), absZ = _mm_andnot_pd(signD, invZ);
+    const __m128d shrink = _mm_set1_pd(1.0 - 0x1p-19), grow = _mm_set1_pd(1.0 + 0x1p-19);
+    const __m128d maxD = _mm_set1_pd(double(std::numeric_limits<float>::max()));
+    const __m128 nearMag = _mm_movelh_ps(_mm_cvtpd_ps(_mm_min_pd(_mm_mul_pd(absXY, shrink), maxD)),
+                                         _mm_cvtpd_ps(_mm_min_pd(_mm_mul_pd(absZ, shrink), maxD)));
+    const __m128 farMag = _mm_movelh_ps(_mm_cvtpd_ps(_mm_mul_pd(absXY, grow)), _mm_cvtpd_ps(_mm_mul_pd(absZ, grow)));
+    // Direction signs (of d, -0 included) per lane, as a float sign bit and as an all-ones mask
+    const __m128 dSign = _mm_and_ps(_mm_movelh_ps(_mm_cvtpd_ps(dXY), _mm_cvtpd_ps(dZ)), signBit);
+    const __m128 negMask = _mm_castsi128_ps(_mm_srai_epi32(_mm_castps_si128(dSign), 31));
+    // Near plane: lo for a positive direction (origin rounded up), hi for a negative one (rounded down)
+    const __m128 nearOrg = _mm_or_ps(_mm_and_ps(negMask, down), _mm_andnot_ps(negMask, up));
+    const __m128 farOrg = _mm_or_ps(_mm_and_ps(negMask, up), _mm_andnot_ps(negMask, down));
+    const __m128 nearInv = _mm_or_ps(nearMag, dSign), farInv = _mm_or_ps(farMag, dSign);
+    const int negative = _mm_movemask_ps(negMask);
+    orgNear[0] = _mm_shuffle_ps(nearOrg, nearOrg, 0x00);
+    orgNear[1] = _mm_shuffle_ps(nearOrg, nearOrg, 0x55);
+    orgNear[2] = _mm_shuffle_ps(nearOrg, nearOrg, 0xaa);
+    orgFar[0] = _mm_shuffle_ps(farOrg, farOrg, 0x00);
+    orgFar[1] = _mm_shuffle_ps(farOrg, farOrg, 0x55);
+    orgFar[2] = _mm_shuffle_ps(farOrg, farOrg, 0xaa);
+    invNear[0] = _mm_shuffle_ps(nearInv, nearInv, 0x00);
+    invNear[1] = _mm_shuffle_ps(nearInv, nearInv, 0x55);
+    invNear[2] = _mm_shuffle_ps(nearInv, nearInv, 0xaa);
+    invFar[0] = _mm_shuffle_ps(farInv, farInv, 0x00);
+    invFar[1] = _mm_shuffle_ps(farInv, farInv, 0x55);
+    invFar[2] = _mm_shuffle_ps(farInv, farInv, 0xaa);
+    for (int k = 0; k < 3; ++k) {
+      nearBound[k] = (negative >> k) & 1 ? 3 + k : k;
+      farBound[k] = (negative >> k) & 1 ? k : 3 + k;
     }
   }
 };
@@ -156,16 +187,18 @@ class Bvh {
         }
       } else {
         const BvhWideNode& n = wide_[cur.first];
-        // Slab test of the four children at once
-        __m128 t0 = tMinV, t1 = _mm_set1_ps(tMaxF);
+        // Slab test of the four children at once. The exit bound is at most FLT_MAX, so an entry at +inf (the
+        // near distance of an empty slot's infinite plane) is never taken even where the far product is NaN
+        __m128 t0 = tMinV, t1 = _mm_set1_ps(std::min(tMaxF, std::numeric_limits<float>::max()));
         for (int a = 0; a < 3; ++a) {
           const __m128 lo = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[br.nearBound[a]]), br.orgNear[a]), br.invNear[a]);
           const __m128 hi = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[br.farBound[a]]), br.orgFar[a]), br.invFar[a]);
-          // The far product's NaN (0 * inf: an origin on the far plane of a parallel ray) is ignored: min(hi, t1)
-          // returns t1 for a NaN hi. The near product is never NaN for a real plane (its reciprocal is finite);
-          // it is NaN only for an empty slot's infinite plane minus an origin beyond float range, and
-          // max(t0, lo) returns that NaN, which rejects the slot. So empty slots (inverted, infinite boxes) are
-          // never entered and need no check.
+          // The far product's NaN (0 * inf: an origin on the far plane of a parallel ray; inf - inf: an infinite
+          // plane and an origin beyond float range) is ignored: min(hi, t1) returns t1 for a NaN hi. A near
+          // product is NaN only for an infinite plane minus an origin beyond float range on the same side, and
+          // max(t0, lo) returns that NaN, which rejects the child. An empty slot's near distance is +inf or NaN,
+          // so empty slots (inverted, infinite boxes) are never entered and need no check. (A real box whose
+          // entry lies beyond FLT_MAX box-test units is not entered either: beyond float range.)
           t0 = _mm_max_ps(t0, lo);
           t1 = _mm_min_ps(hi, t1);
         }

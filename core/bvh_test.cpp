@@ -500,3 +500,40 @@ TEST(Bvh, FloatBoxTestKeepsRaysTouchingTheStoredBox) {
 }
 
 }  // namespace
+
+namespace {
+
+// Rays whose origin lies beyond float range from the tree's anchor (the origin rounds to +-inf on one side), with
+// infinite exit bounds: the leaf callback never sees an empty slot, and boxes the exact test enters are entered
+// (those closer than FLT_MAX along the ray). Found by the scene fuzzer (an empty slot entered through a NaN exit).
+TEST(Bvh, OriginsBeyondFloatRangeNeverEnterEmptySlots) {
+  for (int n : {2, 3, 5, 6, 7}) {
+    auto boxes = randomBoxes(n, unsigned(300 + n));
+    std::vector<Vec3> cents;
+    for (auto& b : boxes) cents.push_back(b.center());
+    Bvh bvh;
+    BvhBuildOptions opt;
+    opt.maxLeafSize = 1;
+    opt.traversalCost = 0.01;
+    bvh.build(boxes, cents, opt);
+    for (double far : {-1e39, 1e39, -1e300, 1e300})
+      for (int axes = 1; axes < 8; ++axes) {  // far on one, two or all three axes, aimed back at the boxes
+        Ray r;
+        r.origin = Vec3(0.1, -0.2, 0.3);
+        r.dir = Vec3(0.0);
+        for (int axis = 0; axis < 3; ++axis)
+          if (axes & (1 << axis)) {
+            r.origin[axis] = far;
+            r.dir[axis] = far < 0 ? 1.0 : -1.0;
+          }
+        double tMax = r.tMax;
+        bvh.traverse<false>(r, tMax, [&](uint32_t first, uint32_t count, double&) {
+          EXPECT_NE(count, BvhWideNode::kEmpty);
+          EXPECT_LE(std::size_t(first) + count, boxes.size());
+          return false;
+        });
+      }
+  }
+}
+
+}  // namespace
