@@ -106,19 +106,16 @@ struct BoxRay {
     const __m128 farOrg = _mm_or_ps(_mm_and_ps(negMask, up), _mm_andnot_ps(negMask, down));
     const __m128 nearInv = _mm_or_ps(nearMag, dSign), farInv = _mm_or_ps(farMag, dSign);
     const int negative = _mm_movemask_ps(negMask);
-    orgNear[0] = _mm_shuffle_ps(nearOrg, nearOrg, 0x00);
-    orgNear[1] = _mm_shuffle_ps(nearOrg, nearOrg, 0x55);
-    orgNear[2] = _mm_shuffle_ps(nearOrg, nearOrg, 0xaa);
-    orgFar[0] = _mm_shuffle_ps(farOrg, farOrg, 0x00);
-    orgFar[1] = _mm_shuffle_ps(farOrg, farOrg, 0x55);
-    orgFar[2] = _mm_shuffle_ps(farOrg, farOrg, 0xaa);
-    invNear[0] = _mm_shuffle_ps(nearInv, nearInv, 0x00);
-    invNear[1] = _mm_shuffle_ps(nearInv, nearInv, 0x55);
-    invNear[2] = _mm_shuffle_ps(nearInv, nearInv, 0xaa);
-    invFar[0] = _mm_shuffle_ps(farInv, farInv, 0x00);
-    invFar[1] = _mm_shuffle_ps(farInv, farInv, 0x55);
-    invFar[2] = _mm_shuffle_ps(farInv, farInv, 0xaa);
-    for (int k = 0; k < 3; ++k) {
+    alignas(16) float lanes[4][4];  // near origin, far origin, near reciprocal, far reciprocal
+    _mm_store_ps(lanes[0], nearOrg);
+    _mm_store_ps(lanes[1], farOrg);
+    _mm_store_ps(lanes[2], nearInv);
+    _mm_store_ps(lanes[3], farInv);
+    for (int k = 0; k < 3; ++k) {  // broadcast per axis for the four-box test
+      orgNear[k] = _mm_set1_ps(lanes[0][k]);
+      orgFar[k] = _mm_set1_ps(lanes[1][k]);
+      invNear[k] = _mm_set1_ps(lanes[2][k]);
+      invFar[k] = _mm_set1_ps(lanes[3][k]);
       nearBound[k] = (negative >> k) & 1 ? 3 + k : k;
       farBound[k] = (negative >> k) & 1 ? k : 3 + k;
     }
