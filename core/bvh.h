@@ -184,24 +184,24 @@ class Bvh {
         }
       } else {
         const BvhWideNode& n = wide_[cur.first];
-        // Slab test of the four children at once. The exit bound is at most FLT_MAX, so an entry at +inf (the
-        // near distance of an empty slot's infinite plane) is never taken even where the far product is NaN
-        __m128 t0 = tMinV, t1 = _mm_set1_ps(std::min(tMaxF, std::numeric_limits<float>::max()));
+        // Slab test of the four children at once
+        __m128 t0 = tMinV, t1 = _mm_set1_ps(tMaxF);
         for (int a = 0; a < 3; ++a) {
           const __m128 lo = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[br.nearBound[a]]), br.orgNear[a]), br.invNear[a]);
           const __m128 hi = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[br.farBound[a]]), br.orgFar[a]), br.invFar[a]);
           // The far product's NaN (0 * inf: an origin on the far plane of a parallel ray; inf - inf: an infinite
           // plane and an origin beyond float range) is ignored: min(hi, t1) returns t1 for a NaN hi. A near
-          // product is NaN only for an infinite plane minus an origin beyond float range on the same side, and
-          // max(t0, lo) returns that NaN, which rejects the child. An empty slot's near distance is +inf or NaN,
-          // so empty slots (inverted, infinite boxes) are never entered and need no check. (A real box whose
-          // entry lies beyond FLT_MAX box-test units is not entered either: beyond float range.)
+          // product is never NaN for a real box (its lo is never +inf nor its hi -inf, and the rounded origin
+          // never goes past +-FLT_MAX toward them); max(t0, lo) would return a NaN and reject the child.
           t0 = _mm_max_ps(t0, lo);
           t1 = _mm_min_ps(hi, t1);
         }
         alignas(16) float tNear[4];
         _mm_store_ps(tNear, t0);
-        unsigned mask = unsigned(_mm_movemask_ps(_mm_cmple_ps(t0, t1)));
+        // Empty slots are the children whose lo.x is +inf (a real box's lo is rounded down, so never +inf even
+        // beyond float range): masked out here, since NaN exits (inf - inf) could otherwise let them through
+        const __m128 used = _mm_cmplt_ps(_mm_load_ps(n.b[0]), _mm_set1_ps(std::numeric_limits<float>::infinity()));
+        unsigned mask = unsigned(_mm_movemask_ps(_mm_and_ps(_mm_cmple_ps(t0, t1), used)));
         if (mask != 0) {
           int c = __builtin_ctz(mask);
           mask &= mask - 1;

@@ -24,9 +24,9 @@ if args.connect:
     Connect(host, int(port))
     GetSettingsProxy("RenderViewSettings").RemoteRenderThreshold = 0.0
 wt.load_plugin(args.plugin)
-view = wt.make_view(size=[480, 360])
+view = wt.make_view(size=[640, 480])
 wt.build_scene(view)
-view.SamplesPerPixel = 8  # a frame long enough to report progress several times
+view.SamplesPerPixel = 32  # a frame long enough (about a second here) to report progress several times
 Render(view)  # conversion and BVH; progress is checked on the next, pure tracing frame
 
 handler = sm.ActiveConnection.Session.GetProgressHandler()
