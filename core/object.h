@@ -47,6 +47,10 @@ struct Object {
   bool refit();
   /// Puts leaf-ordered arrays back in the order given and marks the object for a (fast) rebuild.
   void markForRebuild();
+  /// True if g's leaf-ordered arrays (given order) equal stored's (leaf order), compared through the leaf order;
+  /// true for shapes without such arrays.
+  template <typename G>
+  bool sameLeafOrdered(const G& stored, const G& g) const;
   /// Replaces the attributes by g's, keeping the geometry (for which sameGeometry(g) holds), BVH and leaf order.
   template <typename G>
   void replaceAttributes(G&& g);
@@ -88,12 +92,10 @@ decltype(auto) visitShape(O& o, Fn&& fn) {
 }
 
 template <typename G>
-bool Object::sameGeometry(const G& g) const {
+bool Object::sameLeafOrdered(const G& stored, const G& g) const {
   using Shape = typename ShapeOf<G>::type;
-  const G* stored = std::get_if<G>(&geometry);
-  if (!alive || dirty || !stored || !Shape::sameGeometry(*stored, g)) return false;
   if constexpr (Shape::kLeafOrdered) {
-    const auto &mine = Shape::leafOrdered(*stored), &theirs = Shape::leafOrdered(g);
+    const auto &mine = Shape::leafOrdered(stored), &theirs = Shape::leafOrdered(g);
     if (mine.size() != theirs.size()) return false;
     const uint32_t* order = leafPrims();
     for (std::size_t k = 0; k < mine.size(); ++k)
@@ -103,18 +105,19 @@ bool Object::sameGeometry(const G& g) const {
 }
 
 template <typename G>
+bool Object::sameGeometry(const G& g) const {
+  using Shape = typename ShapeOf<G>::type;
+  const G* stored = std::get_if<G>(&geometry);
+  if (!alive || dirty || !stored || !Shape::sameGeometry(*stored, g)) return false;
+  return sameLeafOrdered(*stored, g);
+}
+
+template <typename G>
 bool Object::sameTopology(const G& g) const {
   using Shape = typename ShapeOf<G>::type;
   const G* stored = std::get_if<G>(&geometry);
   if (!alive || dirty || !stored || !primOrder.empty() || Shape::count(*stored) != Shape::count(g)) return false;
-  if constexpr (Shape::kLeafOrdered) {
-    const auto &mine = Shape::leafOrdered(*stored), &theirs = Shape::leafOrdered(g);
-    if (mine.size() != theirs.size()) return false;
-    const uint32_t* order = leafPrims();
-    for (std::size_t k = 0; k < mine.size(); ++k)
-      if (mine[k] != theirs[order[k]]) return false;
-  }
-  return true;
+  return sameLeafOrdered(*stored, g);
 }
 
 template <typename G>
