@@ -122,6 +122,13 @@ struct BoxRay {
   }
 };
 
+/// Where a tree's leaf primitives live, when they are stored in leaf order (slot k at base + k * stride): lets the
+/// traversal prefetch a leaf's primitives when it decides to visit it. Default: none.
+struct LeafData {
+  const void* base = nullptr;
+  uint32_t stride = 0;
+};
+
 class Bvh {
  public:
   /// Traversal stack size; the builder caps tree depth below it (SAH splits below depth kSahDepthLimit fall back
@@ -159,7 +166,8 @@ class Bvh {
   /// behind a hit found meanwhile are dropped unvisited; fixed-size stack, no allocation, no virtual call; the
   /// callback is inlined.
   template <bool AnyHit, typename LeafFn>
-  bool traverse(const Ray& ray, double& tMax, LeafFn&& leaf, uint64_t* nodesVisited = nullptr) const {
+  bool traverse(const Ray& ray, double& tMax, LeafFn&& leaf, uint64_t* nodesVisited = nullptr,
+                LeafData leafData = {}) const {
     if (wide_.empty() || !isFinite(ray.origin) || !isFinite(ray.dir)) return false;
     const BoxRay br(ray, anchor_);
     struct Entry {
@@ -210,7 +218,7 @@ class Bvh {
             for (; mask; mask &= mask - 1) {
               const int o = __builtin_ctz(mask);
               stack[sp++] = Entry{tNear[o], n.first[o], n.count[o]};
-              prefetchChild(n.first[o], n.count[o]);
+              prefetchChild(n.first[o], n.count[o], leafData);
             }
           } else if (mask != 0) {
             // Entered children by distance, nearest first; the rest are pushed farthest first
@@ -226,12 +234,12 @@ class Bvh {
             }
             for (int j = k - 1; j > 0; --j) {
               stack[sp++] = Entry{tNear[order[j]], n.first[order[j]], n.count[order[j]]};
-              prefetchChild(n.first[order[j]], n.count[order[j]]);
+              prefetchChild(n.first[order[j]], n.count[order[j]], leafData);
             }
             c = order[0];
           }
           cur = Entry{tNear[c], n.first[c], n.count[c]};
-          prefetchChild(cur.first, cur.count);
+          prefetchChild(cur.first, cur.count, leafData);
           continue;
         }
       }
@@ -259,13 +267,18 @@ class Bvh {
   }
 
  private:
-  /// Starts loading an inner child's node (both cache lines) while its siblings are visited: traversal of a large
-  /// tree waits mostly on node loads.
-  void prefetchChild(uint32_t first, uint32_t count) const {
-    if (count != 0) return;
-    const char* p = reinterpret_cast<const char*>(&wide_[first]);
-    _mm_prefetch(p, _MM_HINT_T0);
-    _mm_prefetch(p + 64, _MM_HINT_T0);
+  /// Starts loading a child's node (both cache lines) or leaf primitives (first and last) while its siblings are
+  /// visited: traversal of a large tree waits mostly on memory.
+  void prefetchChild(uint32_t first, uint32_t count, const LeafData& leafData) const {
+    if (count == 0) {
+      const char* p = reinterpret_cast<const char*>(&wide_[first]);
+      _mm_prefetch(p, _MM_HINT_T0);
+      _mm_prefetch(p + 64, _MM_HINT_T0);
+    } else if (leafData.base) {
+      const char* p = static_cast<const char*>(leafData.base) + std::size_t(first) * leafData.stride;
+      _mm_prefetch(p, _MM_HINT_T0);
+      _mm_prefetch(p + std::size_t(count) * leafData.stride - 1, _MM_HINT_T0);
+    }
   }
 
   std::vector<BvhWideNode> wide_;

@@ -48,6 +48,17 @@ class CountedCrossings {
   uint32_t n_ = 0;
 };
 
+/// Where o's leaf primitives live, for the traversal's prefetches (shapes stored in leaf order only).
+template <typename Shape>
+LeafData leafData(const typename Shape::Geometry& g) {
+  if constexpr (Shape::kLeafOrdered) {
+    const auto& a = Shape::leafOrdered(g);
+    return LeafData{a.data(), uint32_t(sizeof(a[0]))};
+  } else {
+    return LeafData{};
+  }
+}
+
 /// Closest hit of an object-space ray with object o of shape Shape (instance: its instance id, for the tie-break).
 /// Shrinks tMax and updates hit; returns true if hit changed.
 template <typename Shape>
@@ -87,7 +98,7 @@ bool closestHit(const Object& o, const typename Shape::Geometry& g, uint32_t ins
         }
         return found;
       },
-      nodes);
+      nodes, leafData<Shape>(g));
 }
 
 /// Shadow ray r (object space) through object o of shape Shape with transmittance kt: multiplies atten by kt at
@@ -121,7 +132,7 @@ bool crossObject(const Object& o, const typename Shape::Geometry& g, const Ray& 
         }
         return false;
       },
-      nodes);
+      nodes, leafData<Shape>(g));
 }
 
 }  // namespace
