@@ -24,6 +24,8 @@ def parse_args(doc):
     ap.add_argument("--sections", default=",".join(NAMES), help="subset of " + ",".join(NAMES))
     ap.add_argument("--whitted-pythonpath", default="", help="folder holding the `whitted` Python package")
     ap.add_argument("--report-only", action="store_true", help="rebuild report and plots from existing CSVs")
+    ap.add_argument("--readme", default="", help="also rewrite the benchmark-figures block of this README from "
+                    "the results (e.g. README.md with --report-only --out data/benchmark/results)")
     ap.add_argument("--paraview-plugin", default="", help="WhittedView plugin for the paraview and mpi sections "
                     "(default: found in ../paraview next to --build-dir)")
     ap.add_argument("--pv-pythonpath", default="", help="folder holding ParaView's `paraview` Python package "
@@ -144,6 +146,9 @@ def main(doc=""):
     for h in head:
         print("  %-*s  %-18s %-28s %-6s %s" % (w, h[0], h[1], h[2], h[3], h[4]))
     print("\nReport: %s (%.0f s)" % (ctx.path("benchmark.md"), elapsed))
+    if args.readme:
+        report.update_readme(args.readme, ctx, head)
+        print("README figures: %s" % args.readme)
     # The outputs each section promises (the CI test relies on this check)
     expect = ["benchmark.md", "commands.txt"]
     if not args.report_only:
