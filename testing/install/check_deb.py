@@ -2,7 +2,8 @@
 
     python3 check_deb.py --build <build tree> --out <folder> --expect <path in the package>... --needs <package>...
 
-Checks: one .deb is made; it holds every --expect path (under /usr only, no static archive) and nothing points into the build or
+Checks: one .deb is made; it holds every --expect path (under /usr only, no static archive), its Python package
+(if any) where the given interpreters look once it is installed (sys.path, no PYTHONPATH), and nothing points into the build or
 source tree (no such RUNPATH in a binary, no such path in a text file: CMake package, Python, XML, conf); its Depends names every --needs package and
 only packages apt knows from Debian 12 (bookworm) sources; `apt-get install --simulate` of the .deb resolves.
 """
@@ -21,6 +22,9 @@ ap.add_argument("--source", required=True, help="the source tree (must not be na
 ap.add_argument("--out", required=True, help="folder for the package (emptied first)")
 ap.add_argument("--expect", nargs="+", default=[], help="paths the package must hold, e.g. usr/bin/x")
 ap.add_argument("--needs", nargs="+", default=[], help="packages Depends must name")
+ap.add_argument("--python-package", help="folder of a Python package in the package, e.g. "
+                "usr/lib/python3/dist-packages/whitted: its parent must be on the --python interpreters' sys.path")
+ap.add_argument("--python", nargs="+", default=[], help="interpreters that must find --python-package installed")
 args = ap.parse_args()
 failures = []
 
@@ -70,6 +74,19 @@ with tempfile.TemporaryDirectory() as root:
                                   re.findall(r"\((?:RUNPATH|RPATH)\).*", data.decode()) or "no RUNPATH"))
             if any(tree in data for tree in trees):
                 failures.append("points into the build or source tree: " + os.path.relpath(path, root))
+
+# Python package: installed, it is found with no PYTHONPATH
+if args.python_package:
+    site = "/" + os.path.dirname(args.python_package.strip("/"))
+    for python in args.python:
+        env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+        path = subprocess.run([python, "-c", "import sys; print('\\n'.join(sys.path))"], capture_output=True,
+                              text=True, env=env).stdout.split()
+        print("%s looks in %s: %s" % (python, site, site in path))
+        if site not in path:
+            failures.append("%s does not look in %s" % (python, site))
+    if not any(p.startswith(args.python_package.strip("/") + "/") for p in paths):
+        failures.append("no Python package in " + args.python_package)
 
 # Dependencies: each alternative is a package apt knows from Debian 12's archive
 depends = run("dpkg-deb", "-f", deb, "Depends").strip()
