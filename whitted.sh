@@ -3,9 +3,10 @@
 #
 #   ./whitted.sh render [--out whitted.png] [--size 800x600] ...   main job: render the default scene, print report
 #   ./whitted.sh test                                              install, build every configuration, run all tests
+#   ./whitted.sh package                                           Debian packages into build/packages (README)
 #
-# Both install what they need (Debian 12 packages, as root) and are idempotent: a second run only rebuilds what
-# changed. Build trees live under $WHITTED_BUILD_DIR (default ./build):
+# Each installs what it needs (Debian 12 packages, as root: render only VTK, GLM and the build tools) and is
+# idempotent: a second run only rebuilds what changed. Build trees live under $WHITTED_BUILD_DIR (default ./build):
 #   build/vtk       core + VTK module (system VTK 9.1) + tests          (the main configuration)
 #   build/paraview  the same plugin/ sources against ParaView 5.11's VTK (ParaView plugin)
 #   build/asan      core + VTK module + C++ tests with AddressSanitizer + UndefinedBehaviorSanitizer (clang)
@@ -19,21 +20,28 @@ BUILD="${WHITTED_BUILD_DIR:-$ROOT/build}"
 JOBS="$(nproc)"
 XVFB=(xvfb-run -a -s "-screen 0 1280x1024x24 -noreset")
 
-PACKAGES=(
-  build-essential cmake ninja-build git pkg-config file
-  libglm-dev libgtest-dev libbenchmark-dev
-  libvtk9-dev python3-vtk9 python3-numpy python3-matplotlib
+# Debian 12 packages: the main job (render) needs VTK, the build tools and GLM; the tests need the rest
+PACKAGES_RENDER=(
+  build-essential cmake ninja-build
+  libglm-dev libvtk9-dev python3-vtk9
+  xvfb xauth
+)
+PACKAGES_TEST=(
+  git pkg-config file
+  libgtest-dev libbenchmark-dev python3-numpy python3-matplotlib
   paraview paraview-dev openmpi-bin
-  xvfb xauth x11-apps imagemagick
+  x11-apps imagemagick
   clang libclang-rt-14-dev llvm
   libembree-dev libtbb-dev povray
 )
 
 log() { printf '\n== %s\n' "$*" >&2; }
 
-install_packages() {
+install_packages() {  # render | test (test: everything)
+  local wanted=("${PACKAGES_RENDER[@]}")
+  [ "$1" = render ] || wanted+=("${PACKAGES_TEST[@]}")
   local missing=()
-  for p in "${PACKAGES[@]}"; do
+  for p in "${wanted[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
   done
   if ((${#missing[@]})); then
@@ -43,6 +51,7 @@ install_packages() {
     $sudo apt-get update -qq
     DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
   fi
+  [ "$1" = render ] && return
   # python3-paraview conflicts with python3-vtk9 (both ship vtkmodules): unpack it privately instead of installing
   if [ ! -d "$BUILD/pvprefix/usr/lib/python3/dist-packages/paraview" ]; then
     log "unpacking python3-paraview into $BUILD/pvprefix"
@@ -52,20 +61,37 @@ install_packages() {
   fi
 }
 
-configure_build() {  # name, extra cmake args...
+configure_build() {  # name, extra cmake args... (configures again when the arguments change)
   local name="$1"
   shift
   local dir="$BUILD/$name"
-  if [ ! -f "$dir/build.ninja" ]; then
+  mkdir -p "$BUILD"
+  if ! configured_with "$name" "$@"; then
     log "configuring $name"
     cmake -S "$ROOT" -B "$dir" -G Ninja -DPython3_EXECUTABLE=/usr/bin/python3 "$@" >"$BUILD/$name.configure.log" ||
       { cat "$BUILD/$name.configure.log"; return 1; }
+    printf '%s' "$*" >"$dir/whitted-configure-args"
   fi
   log "building $name"
   ninja -C "$dir" -j "$JOBS" >"$BUILD/$name.build.log" 2>&1 || { tail -50 "$BUILD/$name.build.log"; return 1; }
 }
 
-build_main() { configure_build vtk -DCMAKE_BUILD_TYPE=Release; }
+configured_with() {  # name, cmake args...: the tree was configured with exactly these arguments
+  [ -f "$BUILD/$1/build.ninja" ] && [ "$(cat "$BUILD/$1/whitted-configure-args" 2>/dev/null)" = "${*:2}" ]
+}
+
+# The main configuration: the VTK module, its Python package and (for the tests) every test and the benchmark.
+MAIN_ARGS=(-DCMAKE_BUILD_TYPE=Release -DWHITTED_BUILD_TESTING=ON -DWHITTED_BENCHMARK=ON)
+build_main() { configure_build vtk "${MAIN_ARGS[@]}"; }
+# The main job's: without tests and benchmark, which need packages it does not install (a tree the tests
+# configured already has everything it needs and is kept as it is)
+build_render() {
+  if configured_with vtk "${MAIN_ARGS[@]}"; then
+    build_main
+  else
+    configure_build vtk -DCMAKE_BUILD_TYPE=Release -DWHITTED_BUILD_TESTING=OFF -DWHITTED_BENCHMARK=OFF
+  fi
+}
 
 build_paraview() {
   configure_build paraview -DCMAKE_BUILD_TYPE=Release -DWHITTED_PARAVIEW=ON \
@@ -94,15 +120,15 @@ pv_env() {
 }
 
 cmd_render() {
-  install_packages
-  build_main
+  install_packages render
+  build_render
   log "rendering the default scene through vtkWhittedPass"
   PYTHONPATH="$BUILD/vtk/lib/python3/dist-packages${PYTHONPATH:+:$PYTHONPATH}" \
     "${XVFB[@]}" /usr/bin/python3 "$ROOT/plugin/python/whitted_demo.py" "$@"
 }
 
 cmd_test() {
-  install_packages
+  install_packages test
   build_main
   build_paraview
   build_asan
@@ -123,7 +149,7 @@ cmd_test() {
     cd "$BUILD/asan" || exit 1
     export ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1
     s=0
-    "${XVFB[@]}" ctest --output-on-failure --timeout 900 -LE "python|benchmark|paraview|large" \
+    "${XVFB[@]}" ctest --output-on-failure --timeout 900 -LE "python|benchmark|paraview|large|install" \
       >"$BUILD/test-asan.log" 2>&1 || s=1
     "${XVFB[@]}" env LD_PRELOAD="$asan_rt" ctest --output-on-failure --timeout 900 -L python \
       >"$BUILD/test-asan-python.log" 2>&1 || s=1
@@ -168,9 +194,27 @@ cmd_test() {
   return $status
 }
 
+cmd_package() {  # the Debian packages whitted-vtk and whitted-paraview, into $BUILD/packages
+  install_packages test
+  build_main
+  build_paraview
+  rm -rf "$BUILD/packages"
+  for name in vtk paraview; do
+    log "packaging $name"
+    (cd "$BUILD/$name" && cpack -G DEB -B "$BUILD/packages" >"$BUILD/package-$name.log" 2>&1) ||
+      { cat "$BUILD/package-$name.log"; return 1; }
+  done
+  rm -rf "$BUILD/packages/_CPack_Packages"
+  for deb in "$BUILD"/packages/*.deb; do
+    printf '%s  %s KiB\n  Depends: %s\n' "$deb" "$(($(stat -c %s "$deb") / 1024))" "$(dpkg-deb -f "$deb" Depends)"
+  done
+  echo "install with: apt install $BUILD/packages/whitted-vtk_*.deb $BUILD/packages/whitted-paraview_*.deb"
+}
+
 case "${1:-}" in
   render) shift; cmd_render "$@" ;;
   test) shift; cmd_test "$@" ;;
-  install) install_packages ;;
-  *) echo "usage: $0 render [options] | test" >&2; exit 2 ;;
+  package) shift; cmd_package "$@" ;;
+  install) install_packages test ;;
+  *) echo "usage: $0 render [options] | test | package" >&2; exit 2 ;;
 esac

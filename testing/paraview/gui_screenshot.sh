@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Takes testing/paraview/gui_screenshot.png (README): the ParaView GUI with the plugin, after the GUI test's
 # steps plus selecting the sphere. Not part of ctest (it looks at the whole screen).
-#   PV_PLUGIN_DIR=<build>/lib/paraview-5.11/plugins/WhittedView ./gui_screenshot.sh [out.png]
+#   PV_PLUGIN_DIR=<build>/lib/x86_64-linux-gnu/paraview-5.11/plugins/WhittedView ./gui_screenshot.sh [out.png]
 # Needs xvfb-run, xwd (x11-apps) and ImageMagick's convert.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"

@@ -1,6 +1,7 @@
 """Regression-image test of the Whitted Ray Trace view, for every way ParaView runs a script.
 
     pvbatch test_render.py --plugin P --baseline B --tmp DIR [options]          (builtin, also mpirun -np 2)
+    pvbatch test_render.py --baseline B --tmp DIR     (no --plugin: ParaView must have loaded it, as installed)
     python3 test_render.py ... --connect 127.0.0.1:PORT [--render-on server|client]   (client of a pvserver)
 
 Builds the shared scene (whitted_pvtest.build_scene), renders it at 400x300, saves a screenshot and
@@ -21,7 +22,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import whitted_pvtest as wt  # noqa: E402
 
 ap = argparse.ArgumentParser()
-ap.add_argument("--plugin", required=True)
+ap.add_argument("--plugin", help="WhittedView.so to load; without it, the plugin must be loaded already (installed "
+                                   "plugin, loaded through ParaView's plugins configuration)")
 ap.add_argument("--baseline", required=True)
 ap.add_argument("--tmp", required=True, help="folder for the test image and diffs")
 ap.add_argument("--name", default="scene", help="name of the test image")
@@ -46,7 +48,8 @@ if args.connect:
     Connect(host, int(port))
     # 0: always render on the server and ship images; huge: ship geometry and render on the client.
     GetSettingsProxy("RenderViewSettings").RemoteRenderThreshold = 0.0 if args.render_on == "server" else 1e9
-wt.load_plugin(args.plugin)
+if args.plugin:
+    wt.load_plugin(args.plugin)
 
 view = wt.make_view()
 shown = wt.build_scene(view, opacity=0.5 if args.translucent else 1.0)

@@ -220,8 +220,8 @@ def find_paraview(args):
     build = os.path.abspath(args.build_dir) if args.build_dir else ""
     for root in ([os.path.dirname(build), build] if build else []):  # --build-dir build/vtk or --build-dir build
         if not plugin:
-            found = sorted(glob.glob(os.path.join(root, "paraview", "lib", "paraview-*", "plugins", "WhittedView",
-                                                  "WhittedView.so")))
+            found = sorted(glob.glob(os.path.join(root, "paraview", "lib", "*", "paraview-*", "plugins",
+                                                  "WhittedView", "WhittedView.so")))
             plugin = found[0] if found else ""
         if not pvpath:
             p = os.path.join(root, "pvprefix", "usr", "lib", "python3", "dist-packages")
