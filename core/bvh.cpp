@@ -882,6 +882,148 @@ int buildThreads(const BvhBuildOptions& opt, std::size_t n) {
   return opt.threads > 0 ? opt.threads : hardwareThreads();
 }
 
+/// LSD radix sort of (code << 32 | index) keys on the 30 code bits, 10 per pass; stable, so its result does not
+/// depend on the split into parts (one per thread: part histograms, then each part scatters its keys in order).
+/// The sorted keys end in keys (the buffers are swapped as the passes go).
+void radixSortMortonKeys(uint64_t*& keys, uint64_t*& tmp, uint32_t n, WorkerPool& pool) {
+  const uint32_t parts = uint32_t(pool.threads()), partSize = (n + parts - 1) / parts;
+  std::vector<std::array<uint32_t, 1024>> hist(parts);
+  for (int pass = 0; pass < 3; ++pass) {
+    const int shift = 32 + 10 * pass;
+    pool.run(parts, [&](uint32_t p) {
+      hist[p].fill(0);
+      for (uint32_t i = p * partSize, e = std::min(n, i + partSize); i < e; ++i) ++hist[p][(keys[i] >> shift) & 1023u];
+    });
+    uint32_t sum = 0;
+    for (int b = 0; b < 1024; ++b)
+      for (uint32_t p = 0; p < parts; ++p) {
+        const uint32_t c = hist[p][b];
+        hist[p][b] = sum;
+        sum += c;
+      }
+    pool.run(parts, [&](uint32_t p) {
+      for (uint32_t i = p * partSize, e = std::min(n, i + partSize); i < e; ++i)
+        tmp[hist[p][(keys[i] >> shift) & 1023u]++] = keys[i];
+    });
+    std::swap(keys, tmp);
+  }
+}
+
+/// Primitives in Morton order of their centroids: primIndices gets the order, codes the sorted 30-bit codes.
+void mortonOrder(const std::vector<Vec3>& centroids, WorkerPool& pool, std::vector<uint32_t>& primIndices,
+                 ScratchArray<uint32_t>& codes) {
+  const uint32_t n = uint32_t(centroids.size()), chunks = chunksOf(n);
+  // Centroid bounds
+  std::vector<Bounds3> part(chunks);
+  pool.run(chunks, [&](uint32_t k) {
+    for (uint32_t i = k * kChunk, e = std::min(n, i + kChunk); i < e; ++i) part[k].extend(centroids[i]);
+  });
+  Bounds3 cb;
+  for (const Bounds3& b : part) cb.extend(b);
+  Vec3 scale(0.0);
+  for (int a = 0; a < 3; ++a) {
+    const double e = cb.hi[a] - cb.lo[a];
+    if (e > 0.0 && std::isfinite(e) && std::isfinite(1024.0 / e)) scale[a] = 1024.0 / e;
+  }
+  // Keys (code, index), sorted
+  ScratchArray<uint64_t> keyArrays[2] = {ScratchArray<uint64_t>(n), ScratchArray<uint64_t>(n)};
+  uint64_t *keys = keyArrays[0].data(), *tmp = keyArrays[1].data();
+  pool.run(chunks, [&](uint32_t k) {
+    for (uint32_t i = k * kChunk, e = std::min(n, i + kChunk); i < e; ++i) {
+      uint32_t code = 0;
+      for (int a = 0; a < 3; ++a) {
+        const double f = (centroids[i][a] - cb.lo[a]) * scale[a];
+        const uint32_t q = f > 0.0 ? (f < 1023.0 ? uint32_t(f) : 1023u) : 0u;  // NaN -> 0
+        code |= spreadBits(q) << (2 - a);
+      }
+      keys[i] = (uint64_t(code) << 32) | i;
+    }
+  });
+  radixSortMortonKeys(keys, tmp, n, pool);
+  pool.run(chunks, [&](uint32_t k) {
+    for (uint32_t i = k * kChunk, e = std::min(n, i + kChunk); i < e; ++i) {
+      codes[i] = uint32_t(keys[i] >> 32);
+      primIndices[i] = uint32_t(keys[i]);
+    }
+  });
+}
+
+/// What a build leaves besides the nodes and the leaf order.
+struct BuiltTree {
+  int depth = 0;
+  Bounds3 bounds;
+};
+
+/// Fast (Morton, LBVH) build into wide and primIndices (sized n).
+BuiltTree buildMorton(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids, const BvhBuildOptions& opt,
+                      const Vec3& anchor, WorkerPool& pool, std::vector<BvhWideNode>& wide,
+                      std::vector<uint32_t>& primIndices) {
+  const uint32_t n = uint32_t(boxes.size());
+  ScratchArray<uint32_t> codes(n);
+  mortonOrder(centroids, pool, primIndices, codes);
+  MortonStrategy s{codes.data(), uint32_t(std::clamp(opt.maxLeafSize, 1, 4))};
+  MortonStrategy::Cand root{0, n, 1};
+  s.decide(root);
+  BuiltTree t;
+  t.depth = buildAll(s, root, pool, wide);
+  // Node boxes: a refit over the primitives' boxes in leaf order
+  const LeafOrderBoxes leafBox(boxes, primIndices, anchor, pool);
+  t.bounds = toBounds(Refitter<LeafOrderBoxes>{wide, leafBox}.all(pool), anchor);
+  return t;
+}
+
+/// Binned-SAH build into wide and primIndices (sized n).
+BuiltTree buildSah(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids, const BvhBuildOptions& opt,
+                   const Vec3& anchor, WorkerPool& pool, std::vector<BvhWideNode>& wide,
+                   std::vector<uint32_t>& primIndices) {
+  const uint32_t n = uint32_t(boxes.size()), chunks = chunksOf(n);
+  // Primitive references (boxes rounded outward once; centroids relative to the first one, so that a small
+  // object far from the origin keeps distinct float centroids), with box and centroid bounds per chunk
+  uint32_t a = 0;
+  while (a + 1 < n && !isFinite(centroids[a])) ++a;
+  const __m128d anchorXY = _mm_loadu_pd(&centroids[a].x), anchorZ = _mm_load_sd(&centroids[a].z);
+  ScratchArray<PrimRef> refs(n);
+  std::vector<Box4> part(2 * std::size_t(chunks));
+  pool.run(chunks, [&](uint32_t k) {
+    Box4 box, cbox;
+    for (uint32_t i = k * kChunk, e = std::min(n, i + kChunk); i < e; ++i) {
+      PrimRef& r = refs[i];
+      const Box4 b = roundedBox(boxes[i], anchor);
+      _mm_store_ps(r.lo, b.lo);
+      _mm_store_ps(r.hi, b.hi);
+      const double* c = &centroids[i].x;
+      _mm_store_ps(r.c, _mm_movelh_ps(_mm_cvtpd_ps(_mm_sub_pd(_mm_loadu_pd(c), anchorXY)),
+                                      _mm_cvtpd_ps(_mm_sub_sd(_mm_load_sd(c + 2), anchorZ))));
+      r.id = i;
+    }
+    boundsOf(refs.data() + k * kChunk, std::min(n, (k + 1) * kChunk) - k * kChunk, box, cbox);
+    part[2 * k] = box;
+    part[2 * k + 1] = cbox;
+  });
+
+  // The tree from the root's bounds down
+  ScratchArray<Bins> chunkBins(n >= kParallelMin ? chunks : 0);
+  SahStrategy s{refs.data(), opt, &pool, chunkBins.data()};
+  SahStrategy::Cand root;
+  root.begin = 0;
+  root.end = n;
+  root.depth = 1;
+  for (uint32_t k = 0; k < chunks; ++k) {
+    root.box.extend(part[2 * k]);
+    root.cbox.extend(part[2 * k + 1]);
+  }
+  s.decide(root);
+  BuiltTree t;
+  t.depth = buildAll(s, root, pool, wide);
+  t.bounds = toBounds(root.box, anchor);
+
+  // Leaf order
+  pool.run(chunks, [&](uint32_t k) {
+    for (uint32_t i = k * kChunk, e = std::min(n, i + kChunk); i < e; ++i) primIndices[i] = refs[i].id;
+  });
+  return t;
+}
+
 }  // namespace
 
 void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids, const BvhBuildOptions& opt) {
@@ -913,114 +1055,12 @@ void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& cent
       break;
     }
   WorkerPool pool(buildThreads(opt, n));
-  const uint32_t chunks = chunksOf(n);
   primIndices_.resize(n);
-
-  if (opt.quality == BvhBuildQuality::Fast) {
-    // Centroid bounds, Morton codes, radix sort of (code, index)
-    std::vector<Bounds3> part(chunks);
-    pool.run(chunks, [&](uint32_t k) {
-      for (uint32_t i = k * kChunk, e = std::min(n, i + kChunk); i < e; ++i) part[k].extend(centroids[i]);
-    });
-    Bounds3 cb;
-    for (const Bounds3& b : part) cb.extend(b);
-    Vec3 scale(0.0);
-    for (int a = 0; a < 3; ++a) {
-      const double e = cb.hi[a] - cb.lo[a];
-      if (e > 0.0 && std::isfinite(e) && std::isfinite(1024.0 / e)) scale[a] = 1024.0 / e;
-    }
-    ScratchArray<uint64_t> keyArrays[2] = {ScratchArray<uint64_t>(n), ScratchArray<uint64_t>(n)};
-    uint64_t *keys = keyArrays[0].data(), *tmp = keyArrays[1].data();
-    pool.run(chunks, [&](uint32_t k) {
-      for (uint32_t i = k * kChunk, e = std::min(n, i + kChunk); i < e; ++i) {
-        uint32_t code = 0;
-        for (int a = 0; a < 3; ++a) {
-          const double f = (centroids[i][a] - cb.lo[a]) * scale[a];
-          const uint32_t q = f > 0.0 ? (f < 1023.0 ? uint32_t(f) : 1023u) : 0u;  // NaN -> 0
-          code |= spreadBits(q) << (2 - a);
-        }
-        keys[i] = (uint64_t(code) << 32) | i;
-      }
-    });
-    // LSD radix sort on the 30 code bits, 10 per pass; stable, so its result does not depend on the split into
-    // parts (one per thread: part histograms, then each part scatters its keys in order)
-    const uint32_t parts = uint32_t(pool.threads()), partSize = (n + parts - 1) / parts;
-    std::vector<std::array<uint32_t, 1024>> hist(parts);
-    for (int pass = 0; pass < 3; ++pass) {
-      const int shift = 32 + 10 * pass;
-      pool.run(parts, [&](uint32_t p) {
-        hist[p].fill(0);
-        for (uint32_t i = p * partSize, e = std::min(n, i + partSize); i < e; ++i)
-          ++hist[p][(keys[i] >> shift) & 1023u];
-      });
-      uint32_t sum = 0;
-      for (int b = 0; b < 1024; ++b)
-        for (uint32_t p = 0; p < parts; ++p) {
-          const uint32_t c = hist[p][b];
-          hist[p][b] = sum;
-          sum += c;
-        }
-      pool.run(parts, [&](uint32_t p) {
-        for (uint32_t i = p * partSize, e = std::min(n, i + partSize); i < e; ++i)
-          tmp[hist[p][(keys[i] >> shift) & 1023u]++] = keys[i];
-      });
-      std::swap(keys, tmp);
-    }
-    ScratchArray<uint32_t> codes(n);
-    pool.run(chunks, [&](uint32_t k) {
-      for (uint32_t i = k * kChunk, e = std::min(n, i + kChunk); i < e; ++i) {
-        codes[i] = uint32_t(keys[i] >> 32);
-        primIndices_[i] = uint32_t(keys[i]);
-      }
-    });
-    MortonStrategy s{codes.data(), uint32_t(std::clamp(opt.maxLeafSize, 1, 4))};
-    MortonStrategy::Cand root{0, n, 1};
-    s.decide(root);
-    depth_ = buildAll(s, root, pool, wide_);
-    const LeafOrderBoxes leafBox(boxes, primIndices_, anchor_, pool);
-    bounds_ = toBounds(Refitter<LeafOrderBoxes>{wide_, leafBox}.all(pool), anchor_);
-    return;
-  }
-
-  // SAH: primitive references (boxes rounded outward once; centroids relative to the first one, so that a small
-  // object far from the origin keeps distinct float centroids), root bounds
-  uint32_t a = 0;
-  while (a + 1 < n && !isFinite(centroids[a])) ++a;
-  const __m128d anchorXY = _mm_loadu_pd(&centroids[a].x), anchorZ = _mm_load_sd(&centroids[a].z);
-  ScratchArray<PrimRef> refs(n);
-  std::vector<Box4> part(2 * std::size_t(chunks));
-  pool.run(chunks, [&](uint32_t k) {
-    Box4 box, cbox;
-    for (uint32_t i = k * kChunk, e = std::min(n, i + kChunk); i < e; ++i) {
-      PrimRef& r = refs[i];
-      const Box4 b = roundedBox(boxes[i], anchor_);
-      _mm_store_ps(r.lo, b.lo);
-      _mm_store_ps(r.hi, b.hi);
-      const double* c = &centroids[i].x;
-      _mm_store_ps(r.c, _mm_movelh_ps(_mm_cvtpd_ps(_mm_sub_pd(_mm_loadu_pd(c), anchorXY)),
-                                      _mm_cvtpd_ps(_mm_sub_sd(_mm_load_sd(c + 2), anchorZ))));
-      r.id = i;
-    }
-    boundsOf(refs.data() + k * kChunk, std::min(n, (k + 1) * kChunk) - k * kChunk, box, cbox);
-    part[2 * k] = box;
-    part[2 * k + 1] = cbox;
-  });
-  ScratchArray<Bins> chunkBins(n >= kParallelMin ? chunks : 0);
-  SahStrategy s{refs.data(), opt, &pool, chunkBins.data()};
-  SahStrategy::Cand root;
-  root.begin = 0;
-  root.end = n;
-  root.depth = 1;
-  for (uint32_t k = 0; k < chunks; ++k) {
-    root.box.extend(part[2 * k]);
-    root.cbox.extend(part[2 * k + 1]);
-  }
-  s.decide(root);
-  depth_ = buildAll(s, root, pool, wide_);
-  bounds_ = toBounds(root.box, anchor_);
-  pool.run(chunks, [&](uint32_t k) {
-    for (uint32_t i = k * kChunk, e = std::min(n, i + kChunk); i < e; ++i) primIndices_[i] = refs[i].id;
-  });
+  const BuiltTree t = opt.quality == BvhBuildQuality::Fast
+                          ? buildMorton(boxes, centroids, opt, anchor_, pool, wide_, primIndices_)
+                          : buildSah(boxes, centroids, opt, anchor_, pool, wide_, primIndices_);
+  depth_ = t.depth;
+  bounds_ = t.bounds;
 }
 
 void Bvh::refit(const std::vector<Bounds3>& boxes) {

@@ -159,7 +159,17 @@ void Scene::forEachVisibleInstance(Fn&& fn) const {
 CommitStats Scene::commit() {
   CommitStats st;
   auto start = std::chrono::steady_clock::now();
+  buildObjects(st);
+  if (topDirty_) buildTopLevel(st);
+  st.secondsBuild = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  sanitizeInputs(st);
+  updateFeaturesAndBounds();
+  return st;
+}
+
+void Scene::buildObjects(CommitStats& st) {
   for (Object& o : objects_) {
+    // Moved points on the same connectivity: refit; a primitive that became invalid falls back to a rebuild
     if (o.alive && o.refitPending && !o.dirty) {
       o.refitPending = false;
       if (o.refit()) {
@@ -167,8 +177,9 @@ CommitStats Scene::commit() {
         topDirty_ = true;
         continue;
       }
-      o.markForRebuild();  // a primitive became invalid: rebuilt (fast) below
+      o.markForRebuild();
     }
+    // New or replaced geometry: rebuilt (fast builder when replaced)
     if (o.alive && o.dirty) {
       st.objectsFastBuilt += o.replaced;
       st.invalidPrimitives += o.rebuild();
@@ -176,42 +187,48 @@ CommitStats Scene::commit() {
       topDirty_ = true;
     }
   }
+}
 
-  if (topDirty_) {
-    std::vector<Bounds3> boxes;
-    std::vector<Vec3> centroids;
-    std::vector<uint32_t> ids;
-    forEachVisibleInstance([&](uint32_t i, const Instance& in) {
-      const Object& o = objects_[in.object];
-      Bounds3 b = in.identity ? o.bounds : transformBounds(in.toWorld, o.bounds);
-      if (!b.valid() || !isFinite(b.lo) || !isFinite(b.hi)) return;
-      boxes.push_back(b);
-      centroids.push_back(b.center());
-      ids.push_back(i);
-    });
-    BvhBuildOptions opt;
-    opt.maxLeafSize = 2;
-    top_.build(boxes, centroids, opt);
-    topInstances_.resize(ids.size());
-    bounds_ = Bounds3();
-    for (std::size_t i = 0; i < ids.size(); ++i) {
-      topInstances_[i] = ids[top_.primIndices()[i]];
-      bounds_.extend(boxes[i]);
-    }
-    topDirty_ = false;
-    st.topLevelRebuilt = true;
+void Scene::buildTopLevel(CommitStats& st) {
+  // World boxes of the visible instances (finite ones only)
+  std::vector<Bounds3> boxes;
+  std::vector<Vec3> centroids;
+  std::vector<uint32_t> ids;
+  forEachVisibleInstance([&](uint32_t i, const Instance& in) {
+    const Object& o = objects_[in.object];
+    Bounds3 b = in.identity ? o.bounds : transformBounds(in.toWorld, o.bounds);
+    if (!b.valid() || !isFinite(b.lo) || !isFinite(b.hi)) return;
+    boxes.push_back(b);
+    centroids.push_back(b.center());
+    ids.push_back(i);
+  });
+
+  // Tree over them; leaf slots map to instances
+  BvhBuildOptions opt;
+  opt.maxLeafSize = 2;
+  top_.build(boxes, centroids, opt);
+  topInstances_.resize(ids.size());
+  bounds_ = Bounds3();
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    topInstances_[i] = ids[top_.primIndices()[i]];
+    bounds_.extend(boxes[i]);
   }
-  st.secondsBuild = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  topDirty_ = false;
+  st.topLevelRebuilt = true;
+}
 
-  // Sanitise what shading reads, so no input can produce a NaN pixel (cheap: once per material and light)
+void Scene::sanitizeInputs(CommitStats& st) {
+  // Cheap: once per material and light
   for (Material& m : materials_) st.invalidMaterials += sanitizeMaterial(m) != 0;
   sanitizeColor(background, 0.0f, 1e6f);
   sanitizeColor(background2, 0.0f, 1e6f);
   if (!std::isfinite(backgroundAlpha)) backgroundAlpha = 1.0f;
   backgroundAlpha = std::clamp(backgroundAlpha, 0.0f, 1.0f);
   for (Light& l : lights_) st.invalidLights += sanitizeLight(l);
+}
 
-  // Features and radiance bounds (cheap: once per instance and light)
+void Scene::updateFeaturesAndBounds() {
+  // Lights: their summed radiance, and whether any casts shadows
   features_ = Features{};
   float lightSum = 0.0f;
   for (const Light& l : lights_) {
@@ -219,8 +236,12 @@ CommitStats Scene::commit() {
     lightSum += li;
     if (l.castShadows && li > 0.0f) features_.shadowLights = true;
   }
+
+  // Environment: backgrounds and texels
   float bound = std::max(maxComponent(background), gradientBackground ? maxComponent(background2) : 0.0f);
   if (environmentMap.projection != EnvironmentMap::Projection::None) bound = std::max(bound, 1.0f);  // texels <= 1
+
+  // Traced instances: features used, largest local radiance and secondary weight
   maxSecondary_ = 0.0f;
   for (uint32_t slot : topInstances_) {
     const Instance& in = instances_[slot];
@@ -243,7 +264,6 @@ CommitStats Scene::commit() {
     maxSecondary_ = std::max(maxSecondary_, maxComponent(m.reflectance + m.transmittance));
   }
   localBound_ = bound;
-  return st;
 }
 
 SceneStats Scene::stats() const {

@@ -184,6 +184,12 @@ class Scene {
   template <typename Fn>
   void forEachVisibleInstance(Fn&& fn) const;
 
+  // The steps of commit(), in order
+  void buildObjects(CommitStats& st);    ///< Refit or rebuild the objects that changed.
+  void buildTopLevel(CommitStats& st);   ///< Tree over the visible instances' world boxes.
+  void sanitizeInputs(CommitStats& st);  ///< Clamp what shading reads, so no input can produce a NaN pixel.
+  void updateFeaturesAndBounds();        ///< Features used and the radiance bounds of the traced instances.
+
   std::vector<Object> objects_;
   std::vector<Instance> instances_;
   std::vector<Material> materials_;

@@ -76,66 +76,82 @@ TriangleMesh makeGrid(const Vec3& origin, const Vec3& u, const Vec3& v, int nu, 
   return m;
 }
 
+const ClassicSceneDescription& classicSceneDescription() {
+  static const ClassicSceneDescription d = [] {
+    ClassicSceneDescription c;
+    // Checkerboard floor (red / yellow as in Whitted 1980) in the plane y = 0, normal +y
+    c.floor.origin = Vec3(-5.0, 0.0, 3.0);
+    c.floor.point1 = Vec3(5.0, 0.0, 3.0);
+    c.floor.point2 = Vec3(-5.0, 0.0, -11.0);
+    c.floor.cellsX = 10;
+    c.floor.cellsY = 14;
+    c.floor.color0 = Vec3(0.85, 0.1, 0.1);
+    c.floor.color1 = Vec3(0.95, 0.85, 0.1);
+    c.floor.ambient = 0.15;
+    c.floor.diffuse = 0.85;
+    // Mirror sphere (back right) and glass sphere (front left)
+    c.mirror = {Vec3(0.9, 1.1, -3.6), 1.1, Vec3(0.7), 0.05, 0.15, 0.6, 60.0, 0.8, 0.0, 1.0};
+    c.glass = {Vec3(-0.7, 0.8, -1.4), 0.8, Vec3(0.9), 0.0, 0.0, 0.8, 100.0, 0.1, 0.9, 1.5};
+    c.lightPosition = Vec3(4.0, 7.0, 3.0);
+    c.background = Vec3(0.3, 0.5, 0.85);
+    c.camera.eye = Vec3(0.0, 1.8, 4.0);
+    c.camera.focal = Vec3(0.0, 0.9, -2.5);
+    c.camera.up = Vec3(0.0, 1.0, 0.0);
+    c.camera.viewAngle = 40.0;
+    return c;
+  }();
+  return d;
+}
+
 void buildClassicScene(Scene& scene, CameraSpec& cam, int sphereSubdivisions) {
-  // Checkerboard floor (red / yellow as in Whitted 1980) in the plane y = 0, normal +y
-  Color4 red(0.85f, 0.1f, 0.1f, 1.0f), yellow(0.95f, 0.85f, 0.1f, 1.0f);
-  TriangleMesh floor =
-      makeGrid(Vec3(-5.0, 0.0, 3.0), Vec3(10.0, 0.0, 0.0), Vec3(0.0, 0.0, -14.0), 10, 14, &red, &yellow);
+  const ClassicSceneDescription& d = classicSceneDescription();
+
+  // Floor: per-triangle checker colours
+  Color4 c0(Color(d.floor.color0), 1.0f), c1(Color(d.floor.color1), 1.0f);
+  TriangleMesh floor = makeGrid(d.floor.origin, d.floor.point1 - d.floor.origin, d.floor.point2 - d.floor.origin,
+                                d.floor.cellsX, d.floor.cellsY, &c0, &c1);
   Material floorMat;
-  floorMat.ambient = 0.15f;
-  floorMat.diffuse = 0.85f;
+  floorMat.ambient = float(d.floor.ambient);
+  floorMat.diffuse = float(d.floor.diffuse);
   floorMat.colorSource = ColorSource::ScalarsAmbientAndDiffuse;
   uint32_t floorObj = scene.addMesh(std::move(floor));
   scene.addInstance(floorObj, Mat4(1.0), scene.addMaterial(floorMat));
 
-  // Mirror sphere (back right) and glass sphere (front left)
-  Material mirror;
-  mirror.diffuseColor = mirror.ambientColor = Color(0.7f);
-  mirror.ambient = 0.05f;
-  mirror.diffuse = 0.15f;
-  mirror.specular = 0.6f;
-  mirror.specularPower = 60.0f;
-  mirror.reflectance = Color(0.8f);
-  Material glass;
-  glass.diffuseColor = glass.ambientColor = Color(0.9f);
-  glass.ambient = 0.0f;
-  glass.diffuse = 0.0f;
-  glass.specular = 0.8f;
-  glass.specularPower = 100.0f;
-  glass.opacity = 1.0f;
-  glass.reflectance = Color(0.1f);
-  glass.transmittance = Color(0.9f);
-  glass.ior = 1.5f;
-  struct Ball {
-    Vec3 c;
-    double r;
+  // Spheres: analytic, or UV-sphere meshes
+  for (const ClassicSceneDescription::Ball* b : {&d.mirror, &d.glass}) {
     Material m;
-  } balls[2] = {{Vec3(0.9, 1.1, -3.6), 1.1, mirror}, {Vec3(-0.7, 0.8, -1.4), 0.8, glass}};
-  for (const Ball& b : balls) {
+    m.diffuseColor = m.ambientColor = Color(b->color);
+    m.ambient = float(b->ambient);
+    m.diffuse = float(b->diffuse);
+    m.specular = float(b->specular);
+    m.specularPower = float(b->specularPower);
+    m.reflectance = Color(float(b->reflectance));
+    m.transmittance = Color(float(b->transmittance));
+    m.ior = float(b->ior);
     uint32_t obj;
     if (sphereSubdivisions > 0) {
-      obj = scene.addMesh(makeSphereMesh(b.c, b.r, 2 * sphereSubdivisions, sphereSubdivisions));
+      obj = scene.addMesh(makeSphereMesh(b->center, b->radius, 2 * sphereSubdivisions, sphereSubdivisions));
     } else {
       SphereSet s;
-      s.centers = {b.c};
-      s.radii = {b.r};
+      s.centers = {b->center};
+      s.radii = {b->radius};
       obj = scene.addSpheres(std::move(s));
     }
-    scene.addInstance(obj, Mat4(1.0), scene.addMaterial(b.m));
+    scene.addInstance(obj, Mat4(1.0), scene.addMaterial(m));
   }
 
+  // Light, background, camera
   Light l;
   l.positional = true;
-  l.position = Vec3(4.0, 7.0, 3.0);
+  l.position = d.lightPosition;
   l.focalPoint = Vec3(0.0);
   l.coneAngle = 180.0;
   scene.lights().push_back(l);
-  scene.background = Color(0.3f, 0.5f, 0.85f);
-
-  cam.eye = Vec3(0.0, 1.8, 4.0);
-  cam.focal = Vec3(0.0, 0.9, -2.5);
-  cam.up = Vec3(0.0, 1.0, 0.0);
-  cam.viewAngle = 40.0;
+  scene.background = Color(d.background);
+  cam.eye = d.camera.eye;
+  cam.focal = d.camera.focal;
+  cam.up = d.camera.up;
+  cam.viewAngle = d.camera.viewAngle;
 }
 
 std::vector<std::string> builtinSceneNames() {

@@ -19,7 +19,40 @@ struct CameraSpec {
   Camera make(double aspect, const Bounds3& sceneBounds) const;
 };
 
-/// Whitted's classic scene: checkerboard floor, mirror sphere, glass sphere, one point light.
+/// Whitted's classic scene as data: a checkerboard floor, a mirror sphere, a glass sphere, one point light. The one
+/// description of the scene: buildClassicScene traces it (whitted_render, the benchmark and its POV-Ray export, the
+/// core tests), and the VTK module's vtkWhittedClassicScene builds it from VTK sources (the demo, the C++ and Python
+/// regression tests). Values in VTK's terms (vtkPlaneSource, vtkProperty, vtkLight, vtkCamera) and in double, so
+/// the VTK side is handed exactly these numbers.
+struct ClassicSceneDescription {
+  /// The floor: a plane given as vtkPlaneSource gives it (origin, point1, point2) of cellsX x cellsY cells whose
+  /// colours alternate between color0 (cell (0, 0)) and color1.
+  struct Floor {
+    Vec3 origin, point1, point2;
+    int cellsX, cellsY;
+    Vec3 color0, color1;
+    double ambient, diffuse;  ///< vtkProperty coefficients.
+  };
+  /// A sphere and its material: vtkProperty colour and coefficients, Whitted kr, kt and IOR (kt 0: opaque, and
+  /// neither kt nor IOR is set on the VTK side).
+  struct Ball {
+    Vec3 center;
+    double radius;
+    Vec3 color;
+    double ambient, diffuse, specular, specularPower;
+    double reflectance, transmittance, ior;
+  };
+  Floor floor;
+  Ball mirror, glass;
+  Vec3 lightPosition;  ///< A white positional light (intensity 1) here, aimed at the origin, cone 180 degrees.
+  Vec3 background;     ///< Background colour (RGB).
+  CameraSpec camera;   ///< Eye, focal point, view-up and view angle; clipping range derived from the bounds.
+};
+
+/// The classic scene's description (see ClassicSceneDescription).
+const ClassicSceneDescription& classicSceneDescription();
+
+/// Whitted's classic scene (classicSceneDescription()) into scene and cam, objects in the order floor, mirror, glass.
 /// sphereSubdivisions == 0 gives analytic spheres; > 0 gives UV-sphere meshes with that many rings.
 void buildClassicScene(Scene& scene, CameraSpec& cam, int sphereSubdivisions = 0);
 

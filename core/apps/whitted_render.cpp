@@ -15,10 +15,17 @@
 
 using namespace whitted;
 
-int main(int argc, char** argv) {
+namespace {
+
+struct Options {
   std::string sceneName = "classic", out = "whitted.png", depthOut;
   int w = 800, h = 600, repeat = 1;
   RenderSettings rs;
+};
+
+/// Reads the command line into o; returns false (after a message) on a bad option or value.
+bool parseOptions(int argc, char** argv, Options& o) {
+  RenderSettings& rs = o.rs;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     auto next = [&]() -> const char* {
@@ -29,11 +36,11 @@ int main(int argc, char** argv) {
       return argv[++i];
     };
     if (a == "--scene")
-      sceneName = next();
+      o.sceneName = next();
     else if (a == "--size") {
-      if (std::sscanf(next(), "%dx%d", &w, &h) != 2 || w <= 0 || h <= 0) {
+      if (std::sscanf(next(), "%dx%d", &o.w, &o.h) != 2 || o.w <= 0 || o.h <= 0) {
         std::fprintf(stderr, "--size wants WxH\n");
-        return 2;
+        return false;
       }
     } else if (a == "--spp")
       rs.samplesPerPixel = std::atoi(next());
@@ -54,49 +61,63 @@ int main(int argc, char** argv) {
     else if (a == "--fresnel")
       rs.integrator.fresnel = true;
     else if (a == "--repeat")
-      repeat = std::max(1, std::atoi(next()));
+      o.repeat = std::max(1, std::atoi(next()));
     else if (a == "--out")
-      out = next();
+      o.out = next();
     else if (a == "--depth-out")
-      depthOut = next();
+      o.depthOut = next();
     else {
       std::fprintf(stderr, "unknown option %s\nscenes:", a.c_str());
       for (auto& n : builtinSceneNames()) std::fprintf(stderr, " %s", n.c_str());
       std::fprintf(stderr, "\n");
-      return 2;
+      return false;
     }
   }
+  return true;
+}
 
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  if (!parseOptions(argc, argv, o)) return 2;
+  const int w = o.w, h = o.h;
+
+  // Scene and camera
   Scene scene;
   CameraSpec cs;
-  if (!buildBuiltinScene(sceneName, scene, cs)) {
-    std::fprintf(stderr, "unknown scene '%s'\n", sceneName.c_str());
+  if (!buildBuiltinScene(o.sceneName, scene, cs)) {
+    std::fprintf(stderr, "unknown scene '%s'\n", o.sceneName.c_str());
     return 2;
   }
   CommitStats commit = scene.commit();
   Camera cam = cs.make(double(w) / h, scene.bounds());
+
+  // Frames: the median trace time is reported
   FrameBuffer fb;
   FrameStats fs;
   std::vector<double> times;
-  for (int r = 0; r < repeat; ++r) {
-    fs = render(scene, cam, rs, w, h, fb);
+  for (int r = 0; r < o.repeat; ++r) {
+    fs = render(scene, cam, o.rs, w, h, fb);
     times.push_back(fs.secondsTrace);
   }
   std::sort(times.begin(), times.end());
-  fs.secondsTrace = times[times.size() / 2];  // median
-  if (!writePng(out, w, h, toRgba8(fb))) {
-    std::fprintf(stderr, "cannot write %s\n", out.c_str());
+  fs.secondsTrace = times[times.size() / 2];
+
+  // Image, depth and report
+  if (!writePng(o.out, w, h, toRgba8(fb))) {
+    std::fprintf(stderr, "cannot write %s\n", o.out.c_str());
     return 1;
   }
-  if (!depthOut.empty()) {
-    FILE* f = std::fopen(depthOut.c_str(), "wb");
+  if (!o.depthOut.empty()) {
+    FILE* f = std::fopen(o.depthOut.c_str(), "wb");
     if (f) {
       std::fwrite(fb.depth.data(), sizeof(float), fb.depth.size(), f);
       std::fclose(f);
     }
   }
   std::printf("%s", frameReport(fs, scene.stats(), commit, w, h).c_str());
-  if (repeat > 1) std::printf("  (trace time is the median of %d runs)\n", repeat);
-  std::printf("  wrote            %s\n", out.c_str());
+  if (o.repeat > 1) std::printf("  (trace time is the median of %d runs)\n", o.repeat);
+  std::printf("  wrote            %s\n", o.out.c_str());
   return 0;
 }

@@ -25,7 +25,7 @@ def parse_size(text):
     return w, h
 
 
-def main(argv=None):
+def parse_args(argv):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", default="whitted.png", help="PNG to write (default whitted.png)")
     ap.add_argument("--size", type=parse_size, default=(800, 600), help="WxH (default 800x600)")
@@ -43,28 +43,12 @@ def main(argv=None):
                     help="sphere phi resolution (theta is twice that; default 48)")
     ap.add_argument("--frames", type=int, default=1,
                     help="render this many frames and report the last (default 1)")
-    args = ap.parse_args(argv)
+    return ap.parse_args(argv)
 
-    from vtkmodules.vtkCommonCore import vtkCommand
-    from vtkmodules.vtkIOImage import vtkPNGWriter
-    from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkWindowToImageFilter
-    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (OpenGL factory)
+
+def make_pass(args):
+    """A vtkWhittedPass with the settings given on the command line (the others keep their defaults)."""
     from whitted import vtkWhittedPass
-    from whitted.scenes import classic_scene
-
-    errors = []
-
-    def on_error(obj, event, *rest):
-        errors.append("%s: %s" % (obj.GetClassName(), event))
-
-    renderer = vtkRenderer()
-    window = vtkRenderWindow()
-    window.SetOffScreenRendering(True)
-    window.SetMultiSamples(0)
-    window.SetSize(*args.size)
-    window.AddRenderer(renderer)
-    classic_scene(renderer, args.resolution)
-
     whitted_pass = vtkWhittedPass()
     for value, setter in ((args.spp, whitted_pass.SetSamplesPerPixel), (args.depth, whitted_pass.SetMaxDepth),
                           (args.threshold, whitted_pass.SetContributionThreshold),
@@ -77,32 +61,26 @@ def main(argv=None):
                          (args.no_refractions, whitted_pass.RefractionsOff), (args.fresnel, whitted_pass.FresnelOn)):
         if flag:
             setter()
-    renderer.SetPass(whitted_pass)
-    for obj in (whitted_pass, window, renderer):
-        obj.AddObserver(vtkCommand.ErrorEvent, on_error)
+    return whitted_pass
 
-    frame_times = []
-    for _ in range(max(1, args.frames)):
-        if args.frames > 1:
-            renderer.GetActiveCamera().Modified()
-        t0 = time.perf_counter()
-        window.Render()
-        frame_times.append(time.perf_counter() - t0)
 
+def write_png(window, path):
+    """The window's last frame (not rendered again) as a PNG."""
+    from vtkmodules.vtkIOImage import vtkPNGWriter
+    from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
     grab = vtkWindowToImageFilter()
     grab.SetInput(window)
     grab.ReadFrontBufferOff()
     grab.ShouldRerenderOff()
     grab.Update()
     writer = vtkPNGWriter()
-    writer.SetFileName(args.out)
+    writer.SetFileName(path)
     writer.SetInputConnection(grab.GetOutputPort())
     writer.Write()
 
-    print(whitted_pass.GetLastFrameReport(), end="")
-    print("  window           Render() %.2f ms (last of %d frame(s))"
-          % (frame_times[-1] * 1e3, len(frame_times)))
 
+def check_frame(args, whitted_pass, errors):
+    """What went wrong: VTK errors, rays or actors not as expected, an aborted frame, no PNG."""
     w, h = args.size
     problems = list(errors)
     stats = whitted_pass.GetLastFrameStatistics()
@@ -116,11 +94,54 @@ def main(argv=None):
         problems.append("the frame was aborted")
     if not os.path.isfile(args.out) or os.path.getsize(args.out) == 0:
         problems.append("could not write " + args.out)
+    return problems
+
+
+def main(argv=None):
+    args = parse_args(argv)
+
+    from vtkmodules.vtkCommonCore import vtkCommand
+    from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow
+    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (OpenGL factory)
+    from whitted.scenes import classic_scene
+
+    errors = []
+
+    def on_error(obj, event, *rest):
+        errors.append("%s: %s" % (obj.GetClassName(), event))
+
+    # Scene, window, pass
+    renderer = vtkRenderer()
+    window = vtkRenderWindow()
+    window.SetOffScreenRendering(True)
+    window.SetMultiSamples(0)
+    window.SetSize(*args.size)
+    window.AddRenderer(renderer)
+    classic_scene(renderer, args.resolution)
+    whitted_pass = make_pass(args)
+    renderer.SetPass(whitted_pass)
+    for obj in (whitted_pass, window, renderer):
+        obj.AddObserver(vtkCommand.ErrorEvent, on_error)
+
+    # Frames, the PNG and the report
+    frame_times = []
+    for _ in range(max(1, args.frames)):
+        if args.frames > 1:
+            renderer.GetActiveCamera().Modified()
+        t0 = time.perf_counter()
+        window.Render()
+        frame_times.append(time.perf_counter() - t0)
+    write_png(window, args.out)
+    print(whitted_pass.GetLastFrameReport(), end="")
+    print("  window           Render() %.2f ms (last of %d frame(s))"
+          % (frame_times[-1] * 1e3, len(frame_times)))
+
+    problems = check_frame(args, whitted_pass, errors)
     if problems:
         for p in problems:
             print("whitted_demo: error: " + p, file=sys.stderr)
         return 1
-    print("whitted_demo: wrote %s (%dx%d)" % (args.out, w, h))
+    print("whitted_demo: wrote %s (%dx%d)" % (args.out, *args.size))
     return 0
 
 

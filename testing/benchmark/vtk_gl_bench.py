@@ -38,12 +38,13 @@ from gen_wavelet import read_whtmesh  # noqa: E402
 FIELDS = ["mode", "msaa", "spp", "width", "height", "triangles", "status", "first_frame_seconds", "seconds_median",
           "seconds_min", "seconds_max", "runs", "gl_renderer", "screenshot", "breakdown", "cpu_seconds_median",
           "first_frame_cpu_seconds"]
-PHASES = ["Conversion", "Build", "Trace", "Composite"]  # vtkWhittedPass::GetLast<Phase>Time()
+PHASES = ["Conversion", "Build", "Trace", "Composite"]  # vtkWhittedFrameStatistics::Get<Phase>Time()
 
 
 def phases(p):
-    """The pass's own per-phase times of the last frame (seconds), if it reports them."""
-    return {k: getattr(p, "GetLast%sTime" % k)() for k in PHASES if hasattr(p, "GetLast%sTime" % k)}
+    """The pass's own per-phase times of the last frame (seconds)."""
+    stats = p.GetLastFrameStatistics()
+    return {k: getattr(stats, "Get%sTime" % k)() for k in PHASES}
 
 
 def write_row(path, row):
@@ -90,7 +91,7 @@ def gl_renderer_name(win):
     return ""
 
 
-def main():
+def parse_args():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--mesh", required=True)
     ap.add_argument("--info", required=True, help="JSON from `whitted_bench info`")
@@ -102,35 +103,24 @@ def main():
     ap.add_argument("--warmup", type=int, default=2)
     ap.add_argument("--csv", required=True)
     ap.add_argument("--png", default="", help="screenshot of the last frame")
-    args = ap.parse_args()
-    w, h = (int(v) for v in args.size.lower().split("x"))
-    row = {"mode": args.mode, "msaa": args.msaa, "spp": args.spp if args.mode == "whitted" else 1, "width": w,
-           "height": h}
+    return ap.parse_args()
 
-    whitted_pass = None
-    if args.mode == "whitted":
-        try:
-            from whitted import vtkWhittedPass  # the VTK module's Python wrapping (plugin/)
-        except Exception as e:  # noqa: BLE001 - any import failure means "not available yet"
-            row["status"] = "unavailable: %s" % str(e).replace(",", ";")
-            write_row(args.csv, row)
-            print("vtkWhittedPass not importable (%s); row marked unavailable" % e)
-            return 0
-        whitted_pass = vtkWhittedPass()
-        # whitted_bench frame's settings, explicitly (like for like with the core's rows)
-        whitted_pass.SetSamplesPerPixel(args.spp)
-        whitted_pass.SetMaxDepth(5)
-        whitted_pass.SetShadows(True)
-        whitted_pass.SetContributionThreshold(1.0 / 255.0)
 
-    from vtkmodules.vtkRenderingCore import vtkActor, vtkLight, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow
-    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 - registers the OpenGL factory overrides
+def make_whitted_pass(spp):
+    """vtkWhittedPass with whitted_bench frame's settings, explicitly (like for like with the core's rows); raises
+    when the module cannot be imported."""
+    from whitted import vtkWhittedPass  # the VTK module's Python wrapping (plugin/)
+    whitted_pass = vtkWhittedPass()
+    whitted_pass.SetSamplesPerPixel(spp)
+    whitted_pass.SetMaxDepth(5)
+    whitted_pass.SetShadows(True)
+    whitted_pass.SetContributionThreshold(1.0 / 255.0)
+    return whitted_pass
 
-    with open(args.info) as f:
-        info = json.load(f)
-    pd, ntri = make_polydata(args.mesh)
-    row["triangles"] = ntri
 
+def make_renderer(info, pd):
+    """The scene whitted_bench traces (from its info JSON): the mesh's actor, lights, background, camera."""
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkLight, vtkPolyDataMapper, vtkRenderer
     mapper = vtkPolyDataMapper()
     mapper.SetInputData(pd)
     mapper.ScalarVisibilityOff()
@@ -162,34 +152,37 @@ def main():
         light.SetIntensity(L["intensity"])
         light.SetConeAngle(L["coneAngle"])
         ren.AddLight(light)
+    ren.GetActiveCamera().SetViewAngle(info["camera"]["viewAngle"])
+    look_at(ren, info["camera"])
+    return ren
+
+
+def look_at(ren, c):
+    """The camera of whitted_bench's info (eye, focal point, view-up), clipping range reset."""
     cam = ren.GetActiveCamera()
-    c = info["camera"]
     cam.SetPosition(*c["eye"])
     cam.SetFocalPoint(*c["focal"])
     cam.SetViewUp(*c["up"])
-    cam.SetViewAngle(c["viewAngle"])
     ren.ResetCameraClippingRange()
 
-    if args.mode == "shadowmap":
-        from vtkmodules.vtkRenderingOpenGL2 import (vtkCameraPass, vtkRenderPassCollection, vtkSequencePass,
-                                                    vtkShadowMapPass)
-        shadows = vtkShadowMapPass()
-        seq = vtkSequencePass()
-        passes = vtkRenderPassCollection()
-        passes.AddItem(shadows.GetShadowMapBakerPass())
-        passes.AddItem(shadows)
-        seq.SetPasses(passes)
-        cpass = vtkCameraPass()
-        cpass.SetDelegatePass(seq)
-        ren.SetPass(cpass)
-    elif whitted_pass is not None:
-        ren.SetPass(whitted_pass)
 
-    win = vtkRenderWindow()
-    win.SetSize(w, h)
-    win.SetMultiSamples(args.msaa)
-    win.AddRenderer(ren)
+def use_shadow_maps(ren):
+    """VTK's vtkShadowMapPass: the closest OpenGL equivalent of a frame with shadows."""
+    from vtkmodules.vtkRenderingOpenGL2 import (vtkCameraPass, vtkRenderPassCollection, vtkSequencePass,
+                                                vtkShadowMapPass)
+    shadows = vtkShadowMapPass()
+    seq = vtkSequencePass()
+    passes = vtkRenderPassCollection()
+    passes.AddItem(shadows.GetShadowMapBakerPass())
+    passes.AddItem(shadows)
+    seq.SetPasses(passes)
+    cpass = vtkCameraPass()
+    cpass.SetDelegatePass(seq)
+    ren.SetPass(cpass)
 
+
+def time_frames(args, win, ren, whitted_pass, row):
+    """The first frame, then --warmup untimed and --reps timed frames each after a 0.5 degree azimuth, into row."""
     t0, c0 = time.perf_counter(), time.process_time()
     win.Render()
     win.WaitForCompletion()
@@ -199,6 +192,7 @@ def main():
     first_phases = phases(whitted_pass) if whitted_pass is not None else {}
 
     times, cpu, steady_phases = [], [], []
+    cam = ren.GetActiveCamera()
     for i in range(args.warmup + args.reps):
         cam.Azimuth(0.5)
         ren.ResetCameraClippingRange()
@@ -217,28 +211,67 @@ def main():
         steady = {k: statistics.median(f[k] for f in steady_phases) for k in first_phases}
         row["breakdown"] = "first frame: %s; steady (median): %s" % tuple(
             " ".join("%s %.1f ms" % (k.lower(), v * 1e3) for k, v in d.items()) for d in (first_phases, steady))
+
+
+def screenshot(win, path):
+    """The window as a PNG, rendered again."""
+    from vtkmodules.vtkIOImage import vtkPNGWriter
+    from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
+    win.Render()
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(win)
+    grab.ReadFrontBufferOff()
+    grab.Update()
+    wr = vtkPNGWriter()
+    wr.SetFileName(path)
+    wr.SetInputConnection(grab.GetOutputPort())
+    wr.Write()
+
+
+def main():
+    args = parse_args()
+    w, h = (int(v) for v in args.size.lower().split("x"))
+    row = {"mode": args.mode, "msaa": args.msaa, "spp": args.spp if args.mode == "whitted" else 1, "width": w,
+           "height": h}
+
+    whitted_pass = None
+    if args.mode == "whitted":
+        try:
+            whitted_pass = make_whitted_pass(args.spp)
+        except Exception as e:  # noqa: BLE001 - any import failure means "not available yet"
+            row["status"] = "unavailable: %s" % str(e).replace(",", ";")
+            write_row(args.csv, row)
+            print("vtkWhittedPass not importable (%s); row marked unavailable" % e)
+            return 0
+
+    from vtkmodules.vtkRenderingCore import vtkRenderWindow
+    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 - registers the OpenGL factory overrides
+
+    # Scene and window
+    with open(args.info) as f:
+        info = json.load(f)
+    pd, ntri = make_polydata(args.mesh)
+    row["triangles"] = ntri
+    ren = make_renderer(info, pd)
+    if args.mode == "shadowmap":
+        use_shadow_maps(ren)
+    elif whitted_pass is not None:
+        ren.SetPass(whitted_pass)
+    win = vtkRenderWindow()
+    win.SetSize(w, h)
+    win.SetMultiSamples(args.msaa)
+    win.AddRenderer(ren)
+
+    # Frames; the screenshot from the initial camera, the view whitted_bench renders
+    time_frames(args, win, ren, whitted_pass, row)
     if args.png:
-        # Screenshot from the initial camera, the view whitted_bench renders
-        cam.SetPosition(*c["eye"])
-        cam.SetFocalPoint(*c["focal"])
-        cam.SetViewUp(*c["up"])
-        ren.ResetCameraClippingRange()
-        win.Render()
-        from vtkmodules.vtkIOImage import vtkPNGWriter
-        from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
-        grab = vtkWindowToImageFilter()
-        grab.SetInput(win)
-        grab.ReadFrontBufferOff()
-        grab.Update()
-        wr = vtkPNGWriter()
-        wr.SetFileName(args.png)
-        wr.SetInputConnection(grab.GetOutputPort())
-        wr.Write()
+        look_at(ren, info["camera"])
+        screenshot(win, args.png)
         row["screenshot"] = os.path.basename(args.png)
     write_row(args.csv, row)
     print("%s msaa %d spp %d %dx%d: first frame %.1f ms, median %.1f ms (min %.1f, %d runs) on %s %s" % (
         args.mode, args.msaa, row["spp"], w, h, row["first_frame_seconds"] * 1e3, row["seconds_median"] * 1e3,
-        row["seconds_min"] * 1e3, len(times), row["gl_renderer"], row.get("breakdown", "")))
+        row["seconds_min"] * 1e3, row["runs"], row["gl_renderer"], row.get("breakdown", "")))
     return 0
 
 

@@ -13,6 +13,7 @@
 // coefficients with any values), the Whitted information keys with any length and values; actor
 // transforms, a texture, instancing, lights, background; a second conversion after a change.
 // Invariant: no crash, no sanitizer report, every pixel finite, every depth in [0, 1].
+#include "vtkWhittedMatrix.h"
 #include "vtkWhittedPass.h"  // the Whitted information keys (defined below: the module is not linked)
 #include "vtkWhittedSceneConverter.h"
 
@@ -350,19 +351,14 @@ void RandomLights(Reader& r, vtkRenderer* ren) {
     ren->AddLight(l);
   }
 }
-}  // namespace
-
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   vtkObject::GlobalWarningDisplayOff();  // conversion warnings and VTK's own errors: not printed
   return 0;
 }
 
-extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  Reader r{data, size};
-  vtkNew<vtkRenderer> ren;
-  vtkSmartPointer<vtkPolyData> poly = RandomPolyData(r);
-
-  // Mapper: plain, composite over a multiblock (empty leaves, block attributes), dataset mapper
+/// The mapper: plain, composite over a multiblock (empty leaves, block attributes), dataset mapper;
+/// then its colouring settings.
+vtkSmartPointer<vtkMapper> RandomMapper(Reader& r, vtkPolyData* poly) {
   vtkSmartPointer<vtkMapper> mapper;
   const int kind = r.u8() % 3;
   if (kind == 1) {
@@ -404,32 +400,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     mapper = pdm;
   }
   RandomMapperSettings(r, mapper);
+  return mapper;
+}
 
-  vtkNew<vtkActor> actor;
-  actor->SetMapper(mapper);
-  RandomProperty(r, actor->GetProperty());
-  RandomTransform(r, actor);
-  if (r.u8() % 4 == 0) {
-    actor->SetTexture(RandomTexture(r));
-  }
-  ren->AddActor(actor);
-  vtkNew<vtkActor> twin;  // instancing: a second actor on the same mapper
-  if (r.bit()) {
-    twin->SetMapper(mapper);
-    RandomProperty(r, twin->GetProperty());
-    RandomTransform(r, twin);
-    ren->AddActor(twin);
-  }
-  RandomLights(r, ren);
-  ren->SetBackground(r.value(), r.value(), r.value());
-  ren->SetBackground2(r.value(), r.value(), r.value());
-  ren->SetGradientBackground(r.bit());
-
-  // Convert (twice, with a change in between, as successive frames do), commit, render 8x8
-  vtkWhittedSceneConverter converter;
-  vtkNew<vtkObject> owner;
-  vtkWhittedSceneConverter::Result result;
-  converter.Update(ren, nullptr, 0, owner, result);
+/// A change between two conversions, as successive frames make.
+void RandomChange(Reader& r, vtkPolyData* poly, vtkActor* actor) {
   switch (r.u8() % 4) {
     case 1:
       poly->Modified();
@@ -443,12 +418,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     default:
       break;
   }
-  converter.Update(ren, nullptr, 0, owner, result);
-  whitted::Scene& scene = converter.GetScene();
-  scene.commit();
+}
 
-  vtkNew<vtkCamera> cam;
-  const whitted::Bounds3 b = scene.bounds();
+/// A camera looking at the scene's bounds, or one with any values.
+void RandomCamera(Reader& r, const whitted::Bounds3& b, vtkCamera* cam) {
   if (r.bit() && b.valid() && std::isfinite(b.diagonal()) && b.diagonal() > 0.0) {
     const whitted::Vec3 c = b.center();
     const double d = b.diagonal();
@@ -464,13 +437,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     cam->SetParallelProjection(r.bit());
     cam->SetParallelScale(r.value());
   }
-  vtkMatrix4x4* m = cam->GetCompositeProjectionTransformMatrix(1.0, -1, 1);
-  whitted::Mat4 worldToClip(1.0);
-  for (int row = 0; row < 4; ++row) {
-    for (int col = 0; col < 4; ++col) {
-      worldToClip[col][row] = m->GetElement(row, col);
-    }
-  }
+}
+
+/// Renders 8x8 (settings from the input) and aborts on a non-finite pixel or a depth outside [0, 1].
+void RenderAndCheck(Reader& r, const whitted::Scene& scene, vtkCamera* cam,
+                    const vtkWhittedSceneConverter::Result& result) {
+  const whitted::Mat4 worldToClip = vtkWhittedToMat4(cam->GetCompositeProjectionTransformMatrix(1.0, -1, 1));
   whitted::RenderSettings rs;
   rs.threads = 1;
   rs.samplesPerPixel = 1 + r.u8() % 2;
@@ -497,5 +469,48 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       std::abort();
     }
   }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  Reader r{data, size};
+  vtkNew<vtkRenderer> ren;
+  vtkSmartPointer<vtkPolyData> poly = RandomPolyData(r);
+  vtkSmartPointer<vtkMapper> mapper = RandomMapper(r, poly);
+
+  // Actors (a second one on the same mapper: instancing), lights, background
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  RandomProperty(r, actor->GetProperty());
+  RandomTransform(r, actor);
+  if (r.u8() % 4 == 0) {
+    actor->SetTexture(RandomTexture(r));
+  }
+  ren->AddActor(actor);
+  vtkNew<vtkActor> twin;
+  if (r.bit()) {
+    twin->SetMapper(mapper);
+    RandomProperty(r, twin->GetProperty());
+    RandomTransform(r, twin);
+    ren->AddActor(twin);
+  }
+  RandomLights(r, ren);
+  ren->SetBackground(r.value(), r.value(), r.value());
+  ren->SetBackground2(r.value(), r.value(), r.value());
+  ren->SetGradientBackground(r.bit());
+
+  // Convert (twice, with a change in between, as successive frames do), commit, render 8x8
+  vtkWhittedSceneConverter converter;
+  vtkNew<vtkObject> owner;
+  vtkWhittedSceneConverter::Result result;
+  converter.Update(ren, nullptr, 0, owner, result);
+  RandomChange(r, poly, actor);
+  converter.Update(ren, nullptr, 0, owner, result);
+  whitted::Scene& scene = converter.GetScene();
+  scene.commit();
+  vtkNew<vtkCamera> cam;
+  RandomCamera(r, scene.bounds(), cam);
+  RenderAndCheck(r, scene, cam, result);
   return 0;
 }

@@ -22,6 +22,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkSphereSource.h"
 #include "vtkUnsignedCharArray.h"
+#include "vtkWhittedClassicScene.h"
 #include "vtkWhittedFrameStatistics.h"
 #include "vtkWhittedPass.h"
 #include "vtkWindowToImageFilter.h"
@@ -96,27 +97,8 @@ inline void SetTransmittance(vtkProperty* p, double r, double g, double b)
 inline vtkSmartPointer<vtkPolyData> Checkerboard(const double o[3], const double p1[3],
   const double p2[3], int nx, int ny, const double c0[3], const double c1[3])
 {
-  vtkNew<vtkPlaneSource> plane;
-  plane->SetOrigin(o[0], o[1], o[2]);
-  plane->SetPoint1(p1[0], p1[1], p1[2]);
-  plane->SetPoint2(p2[0], p2[1], p2[2]);
-  plane->SetResolution(nx, ny);
-  plane->Update();
   auto poly = vtkSmartPointer<vtkPolyData>::New();
-  poly->DeepCopy(plane->GetOutput());
-  vtkNew<vtkUnsignedCharArray> colors;
-  colors->SetName("checker");
-  colors->SetNumberOfComponents(3);
-  for (int j = 0; j < ny; ++j)
-  {
-    for (int i = 0; i < nx; ++i)
-    {
-      const double* c = ((i + j) % 2 == 0) ? c0 : c1;
-      colors->InsertNextTuple3(
-        std::round(255 * c[0]), std::round(255 * c[1]), std::round(255 * c[2]));
-    }
-  }
-  poly->GetCellData()->SetScalars(colors);
+  vtkWhittedClassicScene::MakeCheckerboard(poly, o, p1, p2, nx, ny, c0, c1);
   return poly;
 }
 

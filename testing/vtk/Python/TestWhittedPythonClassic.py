@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""The classic Whitted scene built in Python (whitted.scenes.classic_scene) through vtkWhittedPass: must match
-the C++ test's baseline (TestWhittedClassic.png), so the Python wrapping and keys behave like C++."""
+"""The classic Whitted scene from Python (whitted.scenes.classic_scene, i.e. the wrapped vtkWhittedClassicScene)
+through vtkWhittedPass: must match the C++ test's baseline (TestWhittedClassic.png), so the scene and the pass
+behave through the Python wrapping as in C++."""
 from vtkmodules.test import Testing
 from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401

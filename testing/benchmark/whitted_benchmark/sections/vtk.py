@@ -91,14 +91,8 @@ def _ours(frames):
     return out
 
 
-def report(ctx, head):
-    frames = [r for r in read_csv(ctx.path("frames.csv")) if r["tag"] == "vtk"]
-    vtk = read_csv(ctx.path("vtk_opengl.csv"))
-    if not frames:
-        return []
-    plots.vtk(ctx, frames, vtk)
-    ours = _ours(frames)
-    o1 = ours[min(ours)]
+def _setup_text(ctx, o1):
+    """What was measured and how: scene, lights, shadows, the VTK and core frame definitions."""
     info_path = ctx.path(os.path.join("cache", o1["scene"] + ".json"))
     info = json.load(open(info_path)) if os.path.exists(info_path) else {}
     lights = info.get("lights", [])
@@ -107,21 +101,24 @@ def report(ctx, head):
         i + 1, "headlight" if l.get("headlight") else ("positional" if l["positional"] else "directional"),
         " (intensity %g)" % l["intensity"], "casts shadows" if l.get("castShadows") else "casts no shadow")
         for i, l in enumerate(lights))
-    L = ["\n## Whole frame against VTK's OpenGL renderer\n",
-         "%s (%d triangles) at %dx%d, same camera, lights and material (from `whitted_bench info`). Lights: %s. "
-         "Shadows: the Whitted core, vtkWhittedPass (a light casts shadows when its ShadowAttenuation > 0; the "
-         "script sets 0 for the lights that cast none) and vtkShadowMapPass (headlights cast no shadow map) all "
-         "shadow the same %s; plain VTK OpenGL draws no shadows. VTK: Mesa llvmpipe under `%s`, one window per "
-         "configuration, frame = Render() + WaitForCompletion() after a 0.5 degree azimuth, median of %d; first "
-         "frame (shader compile, upload; for the pass also conversion and BVH build) separately; CPU time = the "
-         "VTK process's (llvmpipe renders on its threads). Whitted core: `whitted_bench frame`, depth 5, all "
-         "cores; steady frame = trace time (no rebuild; mean of the medians measured before and after the VTK "
-         "runs), first frame = BVH build + trace. Antialiasing is compared like for like: MSAA off against 1 "
-         "sample per pixel, MSAA 8 against 8 samples per pixel (MSAA shades each pixel once and supersamples "
-         "only coverage; 8 spp shades 8 times).\n" % (
-             o1["scene"], o1["primitives"], o1["width"], o1["height"], light_text or "see info",
-             "light" if len(casting) == 1 else "lights",
-             " ".join(XVFB), ctx.cfg["vtk_reps"])]
+    return ("%s (%d triangles) at %dx%d, same camera, lights and material (from `whitted_bench info`). Lights: %s. "
+            "Shadows: the Whitted core, vtkWhittedPass (a light casts shadows when its ShadowAttenuation > 0; the "
+            "script sets 0 for the lights that cast none) and vtkShadowMapPass (headlights cast no shadow map) all "
+            "shadow the same %s; plain VTK OpenGL draws no shadows. VTK: Mesa llvmpipe under `%s`, one window per "
+            "configuration, frame = Render() + WaitForCompletion() after a 0.5 degree azimuth, median of %d; first "
+            "frame (shader compile, upload; for the pass also conversion and BVH build) separately; CPU time = the "
+            "VTK process's (llvmpipe renders on its threads). Whitted core: `whitted_bench frame`, depth 5, all "
+            "cores; steady frame = trace time (no rebuild; mean of the medians measured before and after the VTK "
+            "runs), first frame = BVH build + trace. Antialiasing is compared like for like: MSAA off against 1 "
+            "sample per pixel, MSAA 8 against 8 samples per pixel (MSAA shades each pixel once and supersamples "
+            "only coverage; 8 spp shades 8 times).\n" % (
+                o1["scene"], o1["primitives"], o1["width"], o1["height"], light_text or "see info",
+                "light" if len(casting) == 1 else "lights",
+                " ".join(XVFB), ctx.cfg["vtk_reps"]))
+
+
+def _frame_table(ctx, ours, vtk):
+    """One row per renderer and sample count: first and steady frame, image difference against the core."""
     diffs = read_csv(ctx.path("vtk_image_difference.csv"))
     tab = []
     for spp, o in ours.items():
@@ -139,15 +136,17 @@ def report(ctx, head):
                     "%s / %s" % (ms(r["seconds_median"]), ms(r.get("cpu_seconds_median"))),
                     "%.3g (SSIM %.3f, max %d/255)" % (d[0]["rmse"], d[0]["ssim"], d[0]["max_levels"]) if d else "",
                     r.get("breakdown") or r.get("gl_renderer", "")])
-    L.append(md_table(["renderer", "samples", "first frame ms (wall / CPU)", "frame ms (wall / CPU)",
-                       "image vs Whitted core, same samples (RMSE)", "GL renderer / status / pass phases"], tab))
+    return md_table(["renderer", "samples", "first frame ms (wall / CPU)", "frame ms (wall / CPU)",
+                     "image vs Whitted core, same samples (RMSE)", "GL renderer / status / pass phases"], tab)
 
+
+def _comparisons(ctx, ours, vtk, o1):
+    """(label, ours row, anchor row, time key, CPU time key) for each like-for-like pair measured."""
     def vrow(mode, msaa, spp=1):
         m = [r for r in vtk if r["mode"] == mode and r["msaa"] == msaa and r.get("spp", 1) == spp and
              r["status"] == "ok"]
         return m[0] if m else None
 
-    # Comparisons: (label, ours seconds, ours CPU, anchor label, anchor seconds, anchor CPU)
     comp = []
     where = "%s %dx%d" % (o1["scene"], o1["width"], o1["height"])
     for msaa, spp in ctx.cfg["vtk_pairs"]:
@@ -168,8 +167,22 @@ def report(ctx, head):
     if sm and wp1:
         comp.append(("vtkWhittedPass 1 spp vs VTK OpenGL + shadow maps, %s" % where, wp1, sm, "seconds_median",
                      "cpu_seconds_median"))
+    return comp
+
+
+def report(ctx, head):
+    frames = [r for r in read_csv(ctx.path("frames.csv")) if r["tag"] == "vtk"]
+    vtk = read_csv(ctx.path("vtk_opengl.csv"))
+    if not frames:
+        return []
+    plots.vtk(ctx, frames, vtk)
+    ours = _ours(frames)
+    o1 = ours[min(ours)]
+    L = ["\n## Whole frame against VTK's OpenGL renderer\n", _setup_text(ctx, o1), _frame_table(ctx, ours, vtk)]
+
+    # Comparisons (speed ratio = anchor time / ours), also into the headline table
     ctab = []
-    for label, o, a, key, cpu_key in comp:
+    for label, o, a, key, cpu_key in _comparisons(ctx, ours, vtk, o1):
         rw = ratio(a[key], o[key])
         rc = ratio(a.get(cpu_key), o.get(cpu_key))
         ctab.append([label, ms(o[key]), ms(a[key]), fmt_ratio(rw), fmt_ratio(rc)])
