@@ -186,13 +186,16 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
     opacity *= tc.a;
   }
   // The energy rule (bodyWeight): the body colour keeps the share of the opacity that reflection and transmission
-  // leave, the highlight the whole opacity. bodyShare is exactly 1 for VTK's translucency (x / x), so that case
-  // computes what VTK's blend computes. VTK's shader writes each surface's colour clamped to [0, 1] before
-  // blending it: so does the local term here, so a translucent surface over a highlight blends as VTK's image does
+  // leave, the highlight the whole opacity. VTK's shader writes each surface's colour clamped to [0, 1] before
+  // blending it: so does the local term here, so a translucent surface over a highlight blends as VTK's image
+  // does, and a body share applies to the body colour as VTK would write it (clamped: an over-lit body cannot
+  // exceed its share). bodyShare is exactly 1 for VTK's translucency (x / x): that case computes VTK's blend.
+  const Color zero(0.0f), one(1.0f);
   const float bw = bodyWeight(m, opacity);
   const float bodyShare = bw < opacity ? bw / opacity : 1.0f;
-  Color local = (bodyShare == 1.0f ? body + highlight : bodyShare * body + highlight) * texel;
-  Color result = opacity * glm::clamp(local, Color(0.0f), Color(1.0f));
+  Color local = bodyShare == 1.0f ? (body + highlight) * texel
+                                  : bodyShare * glm::clamp(body * texel, zero, one) + highlight * texel;
+  Color result = opacity * glm::clamp(local, zero, one);
 
   if constexpr (Reflect || Refract) {
     Color kr = m.reflectance, kt = m.transmittance;

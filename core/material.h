@@ -60,7 +60,8 @@ struct Texture {
 /// So Transmittance alone makes clear glass and Reflectance alone a mirror (kr or kt = 1: no body colour, no
 /// over-exposure), while a translucent actor with the default kt = 1 - Opacity and kr = 0 keeps exactly VTK's
 /// blend, opacity x colour + (1 - Opacity) x behind: there 1 - (kr + kt) = Opacity, and the comparison below is
-/// made against 1 - Opacity so that float rounding cannot change a pixel of such an actor. The specular highlight
+/// made against 1 - Opacity so that float rounding cannot change a pixel of such an actor. The body colour is
+/// taken clamped to [0, 1], as VTK's shader writes it, before its share is applied. The specular highlight
 /// is weighted by the opacity alone, as VTK weights it: it stands for the mirror image of the point lights,
 /// which reflected rays cannot see. Requires a sanitised material (kr + kt <= 1).
 inline float bodyWeight(const Material& m, float opacity) {
