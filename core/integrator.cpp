@@ -86,7 +86,8 @@ float Integrator::remainingBound(int depth) const {
 
 template <bool Shadows>
 Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Vec3& n, const Vec3& v, bool inside,
-                             RayStats& st) const {
+                             RayStats& st, Color& highlight) const {
+  highlight = Color(0.0f);
   // Colours as VTK's shader forms them (ambient = Ka*Ca, diffuse = Kd*Cd, specular = Ks*Cs)
   Color ca = m.ambientColor, cd = m.diffuseColor;
   if (sp.hasColor && m.colorSource != ColorSource::Material) {
@@ -140,7 +141,8 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
       specular += float(sf) * lc;
     }
   }
-  return amb + dif * diffuse + spe * specular;
+  highlight = spe * specular;
+  return amb + dif * diffuse;
 }
 
 template <bool Reflect, bool Refract, bool Shadows>
@@ -175,15 +177,25 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
   // Inside-ness is a property of the material, not of the kernel: an opaque back face keeps its ambient term
   // whether or not the scene holds a transmissive actor elsewhere
   const bool inside = backFace && maxComponent(m.transmittance) > 0.0f;
-  Color local = shadeLocal<Shadows>(sp, m, nf, v, inside, st);
+  Color highlight;
+  Color body = shadeLocal<Shadows>(sp, m, nf, v, inside, st, highlight);
+  Color texel(1.0f);
   if (scene_.features().textures && m.texture >= 0 && sp.hasUV) {
     Color4 tc = scene_.texture(uint32_t(m.texture)).sample(sp.uv.x, sp.uv.y);
-    local *= Color(tc);
+    texel = Color(tc);
     opacity *= tc.a;
   }
-  // VTK's shader writes each surface's colour clamped to [0, 1] before blending it: so does the local term here,
-  // so a translucent surface over a highlight blends exactly as VTK's image does
-  Color result = opacity * glm::clamp(local, Color(0.0f), Color(1.0f));
+  // The energy rule (bodyWeight): the body colour keeps the share of the opacity that reflection and transmission
+  // leave, the highlight the whole opacity. VTK's shader writes each surface's colour clamped to [0, 1] before
+  // blending it: so does the local term here, so a translucent surface over a highlight blends as VTK's image
+  // does, and a body share applies to the body colour as VTK would write it (clamped: an over-lit body cannot
+  // exceed its share). bodyShare is exactly 1 for VTK's translucency (x / x): that case computes VTK's blend.
+  const Color zero(0.0f), one(1.0f);
+  const float bw = bodyWeight(m, opacity);
+  const float bodyShare = bw < opacity ? bw / opacity : 1.0f;
+  Color local = bodyShare == 1.0f ? (body + highlight) * texel
+                                  : bodyShare * glm::clamp(body * texel, zero, one) + highlight * texel;
+  Color result = opacity * glm::clamp(local, zero, one);
 
   if constexpr (Reflect || Refract) {
     Color kr = m.reflectance, kt = m.transmittance;

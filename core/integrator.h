@@ -92,9 +92,11 @@ class Integrator {
   template <bool Reflect, bool Refract, bool Shadows>
   Color radiance(const Ray& ray, int depth, Color weight, bool straight, RayStats& st, PathState& ps, double* tHit,
                  Vec3* firstHit) const;
+  /// VTK's local shading: returns the body colour (ambient + diffuse terms) and writes the specular highlight to
+  /// highlight (they are weighted apart: see bodyWeight).
   template <bool Shadows>
   Color shadeLocal(const SurfacePoint& sp, const Material& m, const Vec3& n, const Vec3& v, bool inside,
-                   RayStats& st) const;
+                   RayStats& st, Color& highlight) const;
   float remainingBound(int depth) const;
 
   /// Accumulators of one camera ray's path tree.

@@ -524,3 +524,66 @@ TEST(Integrator, NoShadowRayWhoseContributionCannotBeSeen) {
   EXPECT_GT(smp.color.x, 0.0f);
   EXPECT_EQ(st.safetyNetCatches(), 0u);
 }
+
+// The energy rule (bodyWeight). An opaque (Opacity 1), lit, white surface with only Transmittance set is clear
+// glass: kt = 1 at IOR 1 shows exactly what is behind; kt = 0.9 shows 0.9 x behind + 0.1 x its own colour, never
+// more than 1 (it used to be 1 x colour + 0.9 x behind). Reflectance alone makes a mirror: kr = 1 in front of a
+// known wall shows exactly the wall. A translucent actor with VTK's defaults (kt = 1 - Opacity, kr = 0) keeps
+// VTK's blend bit for bit, and the specular highlight keeps the opacity weight.
+TEST(Integrator, EnergyRuleTransmittanceAloneIsGlassReflectanceAloneIsMirror) {
+  const Color behind(0.2f, 0.6f, 0.9f);
+  auto trace = [&](const Material& front, Vec3 origin, Vec3 dir) {
+    Scene s;
+    addObject(s, makeGrid(Vec3(-1, -1, 0), Vec3(2, 0, 0), Vec3(0, 2, 0), 1, 1), front);
+    addObject(s, makeGrid(Vec3(-50, -50, -5), Vec3(100, 0, 0), Vec3(0, 100, 0), 1, 1), unlit(behind));
+    Light l;
+    l.position = Vec3(0, 0, 1);  // directional along -z: the front quad's diffuse term is its full colour
+    s.lights().push_back(l);
+    s.commit();
+    Integrator integ(s, IntegratorSettings{}, Vec3(0, 1, 0));
+    RayStats st;
+    Sample smp = integ.trace(ray(origin, dir), st, Color(0.0f));
+    EXPECT_EQ(st.safetyNetCatches(), 0u);
+    return smp.color;
+  };
+  Material white;  // lit, diffuse 1, white, Opacity 1
+  for (float kt : {1.0f, 0.9f, 0.5f}) {
+    Material glass = white;
+    glass.transmittance = Color(kt);
+    Color c = trace(glass, Vec3(0, 0, 5), Vec3(0, 0, -1));
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(c[i], kt * behind[i] + (1.0f - kt) * 1.0f, 1e-6f) << kt;
+  }
+  // A mirror turned 45 degrees about y sends the camera ray along +x, head on into an unlit wall at x = 5
+  Material mirror = white;
+  mirror.reflectance = Color(1.0f);
+  Scene s;
+  addObject(s, makeGrid(Vec3(-1, -1, 0), Vec3(2, 0, 0), Vec3(0, 2, 0), 1, 1), mirror,
+            glm::rotate(Mat4(1.0), glm::radians(45.0), Vec3(0, 1, 0)));
+  addObject(s, makeGrid(Vec3(5, -50, -50), Vec3(0, 0, 100), Vec3(0, 100, 0), 1, 1), unlit(behind));
+  Light l;
+  l.position = Vec3(0, 0, 1);
+  s.lights().push_back(l);
+  s.commit();
+  Integrator integ(s, IntegratorSettings{}, Vec3(0, 1, 0));
+  RayStats st;
+  Sample smp = integ.trace(ray(Vec3(0, 0, 5), Vec3(0, 0, -1)), st, Color(0.0f));
+  EXPECT_EQ(st.reflection, 1u);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(smp.color[i], behind[i], 1e-6f);
+
+  // VTK's translucency: Opacity 0.3, kt = 1 - 0.3 computed as the VTK adapter computes it
+  Material translucent = white;
+  translucent.opacity = 0.3f;
+  translucent.transmittance = Color(1.0f - translucent.opacity);
+  Color c = trace(translucent, Vec3(0, 0, 5), Vec3(0, 0, -1));
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(c[i], translucent.opacity * 1.0f + translucent.transmittance[i] * behind[i]);
+  EXPECT_EQ(bodyWeight(translucent, 0.3f), 0.3f);
+  EXPECT_EQ(bodyWeight(translucent, 0.1f), 0.1f);  // vertex or texel alpha below the Opacity
+
+  // The highlight keeps the opacity weight: clear glass with a specular term shows behind + the highlight
+  Material shiny = white;
+  shiny.diffuse = 0.0f;
+  shiny.specular = 0.5f;
+  shiny.transmittance = Color(1.0f);
+  c = trace(shiny, Vec3(0, 0, 5), Vec3(0, 0, -1));
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(c[i], behind[i] + 0.5f, 1e-6f);
+}

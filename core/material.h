@@ -4,6 +4,7 @@
 
 #include "math.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -27,7 +28,7 @@ struct Material {
   float diffuse = 1.0f;        ///< vtkProperty Diffuse coefficient. Default 1.
   float specular = 0.0f;       ///< vtkProperty Specular coefficient. Default 0.
   float specularPower = 1.0f;  ///< vtkProperty SpecularPower (Phong exponent). Default 1.
-  float opacity = 1.0f;        ///< vtkProperty Opacity: weight of the local colour. Default 1.
+  float opacity = 1.0f;        ///< vtkProperty Opacity: weight of the local colour (see bodyWeight). Default 1.
   bool lighting = true;        ///< vtkProperty Lighting: false = unlit (colour = ambient + diffuse colours).
   bool flatShading = false;    ///< true = facet normals (VTK_FLAT interpolation).
   ColorSource colorSource = ColorSource::Material;
@@ -51,6 +52,24 @@ struct Texture {
   /// Samples at (s, t) in texture coordinates; returns RGBA in [0,1].
   Color4 sample(float s, float t) const;
 };
+
+/// The energy rule: the weight of a surface point's body colour (ambient + diffuse terms), given the point's
+/// opacity (Opacity times the vertex and texel alpha, each <= 1). The reflected and transmitted rays take kr + kt;
+/// the body gets what they leave, in the channel where they leave least, and never more than the opacity:
+///   bodyWeight = min(opacity, 1 - max over channels of (kr + kt)).
+/// So Transmittance alone makes clear glass and Reflectance alone a mirror (kr or kt = 1: no body colour, no
+/// over-exposure), while a translucent actor with the default kt = 1 - Opacity and kr = 0 keeps exactly VTK's
+/// blend, opacity x colour + (1 - Opacity) x behind: there 1 - (kr + kt) = Opacity, and the comparison below is
+/// made against 1 - Opacity so that float rounding cannot change a pixel of such an actor. The body colour is
+/// taken clamped to [0, 1], as VTK's shader writes it, before its share is applied. The specular highlight
+/// is weighted by the opacity alone, as VTK weights it: it stands for the mirror image of the point lights,
+/// which reflected rays cannot see. Requires a sanitised material (kr + kt <= 1).
+inline float bodyWeight(const Material& m, float opacity) {
+  const float e = std::max(m.reflectance.x + m.transmittance.x,
+                           std::max(m.reflectance.y + m.transmittance.y, m.reflectance.z + m.transmittance.z));
+  if (e <= 1.0f - m.opacity) return opacity;  // kr + kt leave at least the opacity (VTK's translucency)
+  return std::max(0.0f, std::min(opacity, 1.0f - e));
+}
 
 /// Bit of sanitizeMaterial's result: kr + kt exceeded 1 in some channel, so kr and kt were both scaled (all
 /// channels) by 1 / max over channels of (kr + kt): their ratio is kept and the largest sum becomes 1 (to float

@@ -41,6 +41,24 @@ void ReadWhittedKeys(vtkInformation* info, whitted::Material& m)
   {
     m.ior = static_cast<float>(info->Get(vtkWhittedPass::INDEX_OF_REFRACTION()));
   }
+
+  // Beer-Lambert: the colour kept after a distance, as the coefficient per unit the core uses
+  // (-ln(colour) / distance). A colour of 0 (or a distance of 0) keeps nothing: the coefficient
+  // is capped at the core's largest (1e30 per unit). A colour above 1, below 0 or NaN, or a
+  // negative distance, gives a coefficient that sanitizeMaterial clamps to 0 and warns about.
+  Color attenuation(1.0f);
+  readColor(vtkWhittedPass::ATTENUATION_COLOR(), attenuation);
+  const double distance = info->Has(vtkWhittedPass::ATTENUATION_DISTANCE())
+    ? info->Get(vtkWhittedPass::ATTENUATION_DISTANCE())
+    : 1.0;
+  for (int i = 0; i < 3; ++i)
+  {
+    if (attenuation[i] != 1.0f)
+    {
+      const double a = -std::log(static_cast<double>(attenuation[i])) / distance;
+      m.absorption[i] = static_cast<float>(std::isnan(a) ? a : std::min(a, 1e30));
+    }
+  }
 }
 }
 

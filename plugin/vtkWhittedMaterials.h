@@ -5,8 +5,9 @@
  * Private to the Whitted module. VTK's surface terms (Ambient, Diffuse, Specular and their colours,
  * SpecularPower, Opacity, Lighting, Interpolation) are taken as they are; the Whitted terms come
  * from the property's information keys (vtkWhittedPass::REFLECTANCE, TRANSMITTANCE,
- * INDEX_OF_REFRACTION) with defaults that keep VTK's look (no reflection, transmittance
- * 1 - Opacity, index 1). The material is then sanitised by the core (whitted::sanitizeMaterial) and
+ * INDEX_OF_REFRACTION, ATTENUATION_COLOR, ATTENUATION_DISTANCE) with defaults that keep VTK's
+ * look (no reflection, transmittance 1 - Opacity, index 1, no absorption). The material is then
+ * sanitised by the core (whitted::sanitizeMaterial) and
  * what it fixed is warned about once per actor. Cheap: converted again every frame.
  *
  * @sa vtkWhittedSceneConverter vtkWhittedWarnings

@@ -153,6 +153,8 @@ vtkStandardNewMacro(vtkWhittedPass);
 vtkInformationKeyMacro(vtkWhittedPass, REFLECTANCE, DoubleVector);
 vtkInformationKeyMacro(vtkWhittedPass, TRANSMITTANCE, DoubleVector);
 vtkInformationKeyMacro(vtkWhittedPass, INDEX_OF_REFRACTION, Double);
+vtkInformationKeyMacro(vtkWhittedPass, ATTENUATION_COLOR, DoubleVector);
+vtkInformationKeyMacro(vtkWhittedPass, ATTENUATION_DISTANCE, Double);
 
 //------------------------------------------------------------------------------
 vtkWhittedPass::vtkWhittedPass()
@@ -319,6 +321,7 @@ whitted::RenderSettings vtkWhittedPassInternals::FrameSettings(
   is.refractions = pass->GetRefractions();
   is.contributionThreshold = static_cast<float>(pass->GetContributionThreshold());
   is.fresnel = pass->GetFresnel();
+  is.beerLambert = true; // only materials with an ATTENUATION_COLOR below 1 absorb
   is.headlightShading = headlightShading;
   // VTK's specular view vector comes from the camera position, also for parallel projection
   is.viewFromEye = cam->GetParallelProjection() != 0;

@@ -21,8 +21,18 @@
  *   double kt[3] = { 0.9, 0.9, 0.8 };
  *   prop->GetInformation()->Set(vtkWhittedPass::TRANSMITTANCE(), kt, 3);        // tinted glass
  *   prop->GetInformation()->Set(vtkWhittedPass::INDEX_OF_REFRACTION(), 1.5);
+ *   double gold[3] = { 1.0, 0.78, 0.34 };
+ *   prop->GetInformation()->Set(vtkWhittedPass::REFLECTANCE(), gold, 3);        // coloured metal
+ *   double tint[3] = { 0.6, 0.9, 0.8 };                                          // after 2 world units
+ *   prop->GetInformation()->Set(vtkWhittedPass::ATTENUATION_COLOR(), tint, 3);  // of glass, light
+ *   prop->GetInformation()->Set(vtkWhittedPass::ATTENUATION_DISTANCE(), 2.0);   // keeps this colour
  * @endcode
  * Without keys an actor keeps its VTK look: reflectance 0, transmittance 1 - Opacity, index 1.
+ * Energy rule: the body colour (ambient + diffuse) is weighted by min(Opacity, 1 - max over
+ * channels of (REFLECTANCE + TRANSMITTANCE)), the specular highlight by Opacity, so that
+ * TRANSMITTANCE 1 alone is clear glass and REFLECTANCE 1 alone a mirror, and the default keys keep
+ * VTK's translucency exactly. Named materials (Glass, Gold, ...) and OSPRay material libraries:
+ * vtkWhittedMaterialLibrary.
  *
  * The settings (MaxDepth, SamplesPerPixel, ...) have their defaults and ranges in one table,
  * vtkWhittedSettings.h. The statistics of the last frame (time per phase, rays by kind, scene size,
@@ -152,10 +162,18 @@ public:
    * Energy: where REFLECTANCE + TRANSMITTANCE exceeds 1 in some channel, both are scaled (all
    * channels) by 1 / the largest channel sum, with one warning per actor.
    * INDEX_OF_REFRACTION: index of the actor's inside (outside is 1). Default 1 (no bending).
+   * ATTENUATION_COLOR: Beer-Lambert absorption inside the actor, as the colour (1 or 3 values in
+   * (0,1]) that white light keeps after ATTENUATION_DISTANCE world units inside it; applied to
+   * refracted rays over the distance they travel inside. Default 1 (no absorption).
+   * ATTENUATION_DISTANCE: world units over which light inside keeps ATTENUATION_COLOR (> 0).
+   * Default 1. (The absorption coefficient per unit is -ln(colour) / distance, per channel.)
+   * Energy rule (how the actor's own colour shares the pixel with these rays): class documentation.
    */
   static vtkInformationDoubleVectorKey* REFLECTANCE();
   static vtkInformationDoubleVectorKey* TRANSMITTANCE();
   static vtkInformationDoubleKey* INDEX_OF_REFRACTION();
+  static vtkInformationDoubleVectorKey* ATTENUATION_COLOR();
+  static vtkInformationDoubleKey* ATTENUATION_DISTANCE();
   ///@}
 
   /**

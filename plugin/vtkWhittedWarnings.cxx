@@ -73,7 +73,7 @@ void vtkWhittedWarnings::WarnMaterial(vtkProp* actor, uint32_t fixed, float ener
   {
     // What was clamped, in words
     static const char* const what[] = { "a colour", "Ambient/Diffuse/Specular", "SpecularPower",
-      "Opacity", "REFLECTANCE", "TRANSMITTANCE", "INDEX_OF_REFRACTION", "absorption" };
+      "Opacity", "REFLECTANCE", "TRANSMITTANCE", "INDEX_OF_REFRACTION", "ATTENUATION_COLOR/DISTANCE" };
     std::string msg;
     for (int i = 0; i < 8; ++i)
     {

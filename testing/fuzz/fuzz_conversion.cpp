@@ -63,6 +63,8 @@
 vtkInformationKeyMacro(vtkWhittedPass, REFLECTANCE, DoubleVector);
 vtkInformationKeyMacro(vtkWhittedPass, TRANSMITTANCE, DoubleVector);
 vtkInformationKeyMacro(vtkWhittedPass, INDEX_OF_REFRACTION, Double);
+vtkInformationKeyMacro(vtkWhittedPass, ATTENUATION_COLOR, DoubleVector);
+vtkInformationKeyMacro(vtkWhittedPass, ATTENUATION_DISTANCE, Double);
 
 namespace {
 struct Reader : whitted_fuzz::Bytes {
@@ -281,7 +283,8 @@ void RandomProperty(Reader& r, vtkProperty* p) {
   p->SetLighting(r.u8() % 8 != 0);
   p->SetBackfaceCulling(r.u8() % 8 == 0);
   vtkInformation* info = p->GetInformation();
-  for (vtkInformationDoubleVectorKey* key : {vtkWhittedPass::REFLECTANCE(), vtkWhittedPass::TRANSMITTANCE()}) {
+  for (vtkInformationDoubleVectorKey* key : {vtkWhittedPass::REFLECTANCE(), vtkWhittedPass::TRANSMITTANCE(),
+                                              vtkWhittedPass::ATTENUATION_COLOR()}) {
     const int n = r.u8() % 6;  // 0 = not set
     if (n > 0) {
       double v[4] = {0.0, 0.0, 0.0, 0.0};
@@ -293,6 +296,9 @@ void RandomProperty(Reader& r, vtkProperty* p) {
   }
   if (r.bit()) {
     info->Set(vtkWhittedPass::INDEX_OF_REFRACTION(), r.value());
+  }
+  if (r.bit()) {
+    info->Set(vtkWhittedPass::ATTENUATION_DISTANCE(), r.value());
   }
 }
 

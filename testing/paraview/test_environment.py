@@ -24,10 +24,10 @@ ap.add_argument("--plugin", required=True)
 ap.add_argument("--tmp", required=True)
 args = ap.parse_args()
 
-from paraview.simple import CreateTexture, Render, SaveScreenshot, Show, Sphere  # noqa: E402
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy  # noqa: E402
+from paraview.simple import CreateTexture, Show, Sphere  # noqa: E402
+from vtkmodules.util.numpy_support import numpy_to_vtk  # noqa: E402
 from vtkmodules.vtkCommonDataModel import vtkImageData  # noqa: E402
-from vtkmodules.vtkIOImage import vtkPNGReader, vtkPNGWriter  # noqa: E402
+from vtkmodules.vtkIOImage import vtkPNGWriter  # noqa: E402
 
 os.makedirs(args.tmp, exist_ok=True)
 failures = []
@@ -67,15 +67,8 @@ view.CameraPosition = eye
 view.CameraFocalPoint = [0.0, 0.0, 0.0]
 view.CameraViewUp = [0.0, 1.0, 0.0]
 view.CameraViewAngle = 30.0
-Render(view)
-path = os.path.join(args.tmp, "environment.png")
-SaveScreenshot(path, view, ImageResolution=[200, 200])
-reader = vtkPNGReader()
-reader.SetFileName(path)
-reader.Update()
-out = reader.GetOutput()
-w, h, _ = out.GetDimensions()
-pixels = vtk_to_numpy(out.GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3].astype(int)
+pixels = wt.screenshot(view, os.path.join(args.tmp, "environment.png"), [200, 200])
+h, w, _ = pixels.shape
 
 d = np.array(eye) / np.linalg.norm(eye)  # reflected straight back to the camera at the sphere's centre pixel
 u = math.atan2(d[2], d[0]) / (2 * math.pi) + 0.5

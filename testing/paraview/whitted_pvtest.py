@@ -118,6 +118,30 @@ def set_camera(view):
     view.CameraParallelProjection = 0
 
 
+def read_png(path):
+    """A PNG file's RGB as an int32 numpy array (rows, columns, 3), rows as stored (top row first)."""
+    import numpy as np
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkIOImage import vtkPNGReader
+
+    r = vtkPNGReader()
+    r.SetFileName(path)
+    r.Update()
+    img = r.GetOutput()
+    dims = img.GetDimensions()
+    arr = vtk_to_numpy(img.GetPointData().GetScalars()).reshape(dims[1], dims[0], -1)
+    return arr[:, :, :3].astype(np.int32)
+
+
+def screenshot(view, path, size):
+    """Renders view, saves it to path at size (width, height) and returns its RGB as read_png does."""
+    from paraview.simple import Render, SaveScreenshot
+
+    Render(view)
+    SaveScreenshot(path, view, ImageResolution=list(size))
+    return read_png(path)
+
+
 def compare_image(image, baseline, tmpdir, max_bad_fraction=0.002, tolerance=24):
     """Compares two PNG files pixel by pixel: fails when more than max_bad_fraction of the pixels differ by
     more than tolerance (0-255, any channel). The tracer is deterministic, so builtin, client/server and MPI
@@ -125,23 +149,13 @@ def compare_image(image, baseline, tmpdir, max_bad_fraction=0.002, tolerance=24)
     Returns (ok, fraction of differing pixels). A missing baseline fails and leaves the image in place.
     On failure a difference image is written to tmpdir."""
     import numpy as np
-    from vtkmodules.util.numpy_support import vtk_to_numpy
-    from vtkmodules.vtkIOImage import vtkPNGReader, vtkPNGWriter
+    from vtkmodules.vtkIOImage import vtkPNGWriter
 
     if not os.path.exists(baseline):
         print("ERROR: baseline %s missing; the test image is %s" % (baseline, image))
         return False, 1.0
 
-    def read(path):
-        r = vtkPNGReader()
-        r.SetFileName(path)
-        r.Update()
-        img = r.GetOutput()
-        dims = img.GetDimensions()
-        arr = vtk_to_numpy(img.GetPointData().GetScalars()).reshape(dims[1], dims[0], -1)
-        return arr[:, :, :3].astype(np.int32)
-
-    a, b = read(image), read(baseline)
+    a, b = read_png(image), read_png(baseline)
     if a.shape != b.shape:
         print("image %s is %s, baseline %s is %s" % (image, a.shape, baseline, b.shape))
         return False, 1.0

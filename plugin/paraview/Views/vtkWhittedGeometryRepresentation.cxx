@@ -6,104 +6,178 @@
 #include "vtkObjectFactory.h"
 #include "vtkPVLODActor.h"
 #include "vtkProperty.h"
+#include "vtkWhittedMaterialLibrary.h"
 #include "vtkWhittedPass.h"
+
+#include <cstring>
+#include <string>
 
 vtkStandardNewMacro(vtkWhittedGeometryRepresentation);
 
-namespace
+//------------------------------------------------------------------------------
+vtkWhittedGeometryRepresentation::vtkWhittedGeometryRepresentation()
+  : Library(vtkSmartPointer<vtkWhittedMaterialLibrary>::New())
 {
-vtkInformation* MaterialInformation(vtkProperty* property)
+}
+
+vtkWhittedGeometryRepresentation::~vtkWhittedGeometryRepresentation()
 {
-  if (!property->GetInformation())
+  delete[] this->MaterialLibrary;
+  delete[] this->LibraryMaterial;
+}
+
+//------------------------------------------------------------------------------
+void vtkWhittedGeometryRepresentation::UpdateMaterialKeys()
+{
+  // A preset sets (or removes) every key
+  const char* preset = vtkWhittedMaterialLibrary::GetPresetName(this->MaterialPreset);
+  if (this->MaterialPreset > 0 && vtkWhittedMaterialLibrary::ApplyPreset(preset, this->Property))
   {
-    vtkNew<vtkInformation> info;
-    property->SetInformation(info);
+    this->Modified();
+    return;
   }
-  return property->GetInformation();
+
+  // A material of the library
+  if (this->MaterialPreset == 0 && this->LibraryMaterial && *this->LibraryMaterial &&
+    *this->Library->GetMaterialType(this->LibraryMaterial) &&
+    this->Library->ApplyMaterial(this->LibraryMaterial, this->Property))
+  {
+    this->Modified();
+    return;
+  }
+
+  // The fields; Transmittance 0 and a white AttenuationColor mean "not set"
+  vtkWhittedMaterialLibrary::ApplyPreset("None", this->Property);
+  vtkInformation* info = this->Property->GetInformation();
+  double kr[3];
+  for (int i = 0; i < 3; ++i)
+  {
+    kr[i] = this->Reflectance * this->ReflectanceColor[i];
+  }
+  info->Set(vtkWhittedPass::REFLECTANCE(), kr, 3);
+  if (this->Transmittance > 0.0)
+  {
+    info->Set(vtkWhittedPass::TRANSMITTANCE(), &this->Transmittance, 1);
+  }
+  info->Set(vtkWhittedPass::INDEX_OF_REFRACTION(), this->IndexOfRefraction);
+  const double* a = this->AttenuationColor;
+  if (a[0] != 1.0 || a[1] != 1.0 || a[2] != 1.0)
+  {
+    info->Set(vtkWhittedPass::ATTENUATION_COLOR(), this->AttenuationColor, 3);
+    info->Set(vtkWhittedPass::ATTENUATION_DISTANCE(), this->AttenuationDistance);
+  }
+  this->Property->Modified();
+  this->Modified();
 }
 
-double GetFirst(vtkProperty* property, vtkInformationDoubleVectorKey* key, double fallback)
+//------------------------------------------------------------------------------
+void vtkWhittedGeometryRepresentation::SetMaterialPreset(int preset)
 {
-  vtkInformation* info = property->GetInformation();
-  return (info && info->Has(key) && info->Length(key) > 0) ? info->Get(key, 0) : fallback;
-}
+  this->Assign(this->MaterialPreset, preset);
 }
 
-//------------------------------------------------------------------------------
-vtkWhittedGeometryRepresentation::vtkWhittedGeometryRepresentation() = default;
-vtkWhittedGeometryRepresentation::~vtkWhittedGeometryRepresentation() = default;
-
-//------------------------------------------------------------------------------
 void vtkWhittedGeometryRepresentation::SetReflectance(double value)
 {
-  if (value != this->GetReflectance() ||
-    !MaterialInformation(this->Property)->Has(vtkWhittedPass::REFLECTANCE()))
-  {
-    MaterialInformation(this->Property)->Set(vtkWhittedPass::REFLECTANCE(), &value, 1);
-    this->Property->Modified();
-    this->Modified();
-  }
+  this->Assign(this->Reflectance, value);
 }
 
-double vtkWhittedGeometryRepresentation::GetReflectance()
+void vtkWhittedGeometryRepresentation::SetReflectanceColor(double r, double g, double b)
 {
-  return GetFirst(this->Property, vtkWhittedPass::REFLECTANCE(), 0.0);
+  this->AssignColor(this->ReflectanceColor, r, g, b);
 }
 
-//------------------------------------------------------------------------------
 void vtkWhittedGeometryRepresentation::SetTransmittance(double value)
 {
-  vtkInformation* info = MaterialInformation(this->Property);
-  const bool had = info->Has(vtkWhittedPass::TRANSMITTANCE());
-  if (value > 0.0)
-  {
-    if (!had || value != this->GetTransmittance())
-    {
-      info->Set(vtkWhittedPass::TRANSMITTANCE(), &value, 1);
-      this->Property->Modified();
-      this->Modified();
-    }
-  }
-  else if (had)
-  {
-    // 0 means "not set": the pass then derives the transmittance from the opacity (1 - Opacity).
-    info->Remove(vtkWhittedPass::TRANSMITTANCE());
-    this->Property->Modified();
-    this->Modified();
-  }
+  this->Assign(this->Transmittance, value);
 }
 
-double vtkWhittedGeometryRepresentation::GetTransmittance()
-{
-  return GetFirst(this->Property, vtkWhittedPass::TRANSMITTANCE(), 0.0);
-}
-
-//------------------------------------------------------------------------------
 void vtkWhittedGeometryRepresentation::SetIndexOfRefraction(double value)
 {
-  vtkInformation* info = MaterialInformation(this->Property);
-  if (!info->Has(vtkWhittedPass::INDEX_OF_REFRACTION()) ||
-    info->Get(vtkWhittedPass::INDEX_OF_REFRACTION()) != value)
+  this->Assign(this->IndexOfRefraction, value);
+}
+
+void vtkWhittedGeometryRepresentation::SetAttenuationColor(double r, double g, double b)
+{
+  this->AssignColor(this->AttenuationColor, r, g, b);
+}
+
+void vtkWhittedGeometryRepresentation::SetAttenuationDistance(double value)
+{
+  this->Assign(this->AttenuationDistance, value);
+}
+
+template <typename T>
+void vtkWhittedGeometryRepresentation::Assign(T& field, T value)
+{
+  if (field != value)
   {
-    info->Set(vtkWhittedPass::INDEX_OF_REFRACTION(), value);
-    this->Property->Modified();
-    this->Modified();
+    field = value;
+    this->UpdateMaterialKeys();
   }
 }
 
-double vtkWhittedGeometryRepresentation::GetIndexOfRefraction()
+void vtkWhittedGeometryRepresentation::AssignColor(double* field, double r, double g, double b)
 {
-  vtkInformation* info = this->Property->GetInformation();
-  return (info && info->Has(vtkWhittedPass::INDEX_OF_REFRACTION()))
-    ? info->Get(vtkWhittedPass::INDEX_OF_REFRACTION())
-    : 1.0;
+  if (r != field[0] || g != field[1] || b != field[2])
+  {
+    field[0] = r;
+    field[1] = g;
+    field[2] = b;
+    this->UpdateMaterialKeys();
+  }
+}
+
+void vtkWhittedGeometryRepresentation::SetMaterialLibrary(const char* filename)
+{
+  const std::string now = this->MaterialLibrary ? this->MaterialLibrary : "";
+  if (now == (filename ? filename : ""))
+  {
+    return;
+  }
+  delete[] this->MaterialLibrary;
+  this->MaterialLibrary = nullptr;
+  this->Library = vtkSmartPointer<vtkWhittedMaterialLibrary>::New(); // the previous file's are gone
+  if (filename && *filename)
+  {
+    this->MaterialLibrary = new char[std::strlen(filename) + 1];
+    std::strcpy(this->MaterialLibrary, filename);
+    this->Library->ReadFile(filename);
+  }
+  this->UpdateMaterialKeys();
+}
+
+void vtkWhittedGeometryRepresentation::SetLibraryMaterial(const char* name)
+{
+  const std::string now = this->LibraryMaterial ? this->LibraryMaterial : "";
+  if (now == (name ? name : ""))
+  {
+    return;
+  }
+  delete[] this->LibraryMaterial;
+  this->LibraryMaterial = nullptr;
+  if (name)
+  {
+    this->LibraryMaterial = new char[std::strlen(name) + 1];
+    std::strcpy(this->LibraryMaterial, name);
+  }
+  this->UpdateMaterialKeys();
 }
 
 //------------------------------------------------------------------------------
 void vtkWhittedGeometryRepresentation::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "Reflectance: " << this->GetReflectance() << "\n";
-  os << indent << "Transmittance: " << this->GetTransmittance() << "\n";
-  os << indent << "IndexOfRefraction: " << this->GetIndexOfRefraction() << "\n";
+  const double* kr = this->ReflectanceColor;
+  const double* a = this->AttenuationColor;
+  os << indent << "MaterialPreset: " << this->MaterialPreset << "\n";
+  os << indent << "Reflectance: " << this->Reflectance << "\n";
+  os << indent << "ReflectanceColor: " << kr[0] << " " << kr[1] << " " << kr[2] << "\n";
+  os << indent << "Transmittance: " << this->Transmittance << "\n";
+  os << indent << "IndexOfRefraction: " << this->IndexOfRefraction << "\n";
+  os << indent << "AttenuationColor: " << a[0] << " " << a[1] << " " << a[2] << "\n";
+  os << indent << "AttenuationDistance: " << this->AttenuationDistance << "\n";
+  os << indent << "MaterialLibrary: " << (this->MaterialLibrary ? this->MaterialLibrary : "(none)")
+     << "\n";
+  os << indent << "LibraryMaterial: " << (this->LibraryMaterial ? this->LibraryMaterial : "(none)")
+     << "\n";
 }

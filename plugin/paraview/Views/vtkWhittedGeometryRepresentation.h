@@ -2,23 +2,34 @@
  * @class   vtkWhittedGeometryRepresentation
  * @brief   surface representation carrying the Whitted material ("Whitted Surface" in the GUI)
  *
- * A vtkGeometryRepresentationWithFaces (ParaView's "Surface" representation class) with three more
- * settings, stored as vtkWhittedPass information keys on the actor's vtkProperty, where
+ * A vtkGeometryRepresentationWithFaces (ParaView's "Surface" representation class) with the
+ * Whitted material, stored as vtkWhittedPass information keys on the actor's vtkProperty, where
  * vtkWhittedPass reads them: the same keys a VTK program sets by hand.
  *
- * - Reflectance: weight of the mirror-reflected ray in [0,1] (vtkWhittedPass::REFLECTANCE). Default
- * 0.
+ * - MaterialPreset: 0 None (the fields below apply), else a vtkWhittedMaterialLibrary preset by
+ *   index (1 Glass, 2 Water, 3 Mirror, 4 Chrome, 5 Gold, 6 Copper, 7 Plastic) that sets every key
+ *   and overrides the fields below. Default 0.
+ * - Reflectance: weight of the mirror-reflected ray in [0,1], times ReflectanceColor (RGB in
+ *   [0,1], default white) -> vtkWhittedPass::REFLECTANCE. Default 0.
  * - Transmittance: weight of the refracted ray and shadow filter in [0,1]
- *   (vtkWhittedPass::TRANSMITTANCE). 0, the default, leaves the key unset so the pass uses 1 -
- * Opacity.
+ *   (vtkWhittedPass::TRANSMITTANCE). 0, the default, leaves the key unset so the pass uses
+ *   1 - Opacity.
  * - IndexOfRefraction: index of the inside (vtkWhittedPass::INDEX_OF_REFRACTION). Default 1.
+ * - AttenuationColor, AttenuationDistance: Beer-Lambert absorption inside, the colour white light
+ *   keeps after that many world units (vtkWhittedPass::ATTENUATION_COLOR, ATTENUATION_DISTANCE).
+ *   Default white (no absorption), 1.
+ * - MaterialLibrary, LibraryMaterial: an OSPRay material library file (JSON, as ParaView's "Load
+ *   Ray Tracing Materials" reads; read where the representation runs, i.e. on the server) and the
+ *   name of one of its materials. With MaterialPreset None and a material of that name, the
+ *   material is applied (vtkWhittedMaterialLibrary::ApplyMaterial) instead of the fields above.
+ *   Default none.
  *
  * The server-manager XML (xml/WhittedView.xml) adds it as representation type "Whitted Surface" to
  * ParaView's Geometry (polygonal and any other data set), UnstructuredGrid, StructuredGrid and
  * UniformGrid representations; the other properties (colouring, opacity, specular, ...) are shared
  * with "Surface".
  *
- * @sa vtkWhittedPass vtkPVWhittedView
+ * @sa vtkWhittedPass vtkWhittedMaterialLibrary vtkPVWhittedView
  */
 
 #ifndef vtkWhittedGeometryRepresentation_h
@@ -26,6 +37,9 @@
 
 #include "WhittedParaViewModule.h" // for export macro
 #include "vtkGeometryRepresentationWithFaces.h"
+#include "vtkSmartPointer.h" // for vtkSmartPointer
+
+class vtkWhittedMaterialLibrary;
 
 class WHITTEDPARAVIEW_EXPORT vtkWhittedGeometryRepresentation
   : public vtkGeometryRepresentationWithFaces
@@ -39,19 +53,50 @@ public:
   /**
    * Whitted material of this representation's actor (see class documentation).
    */
+  void SetMaterialPreset(int preset);
+  vtkGetMacro(MaterialPreset, int);
   void SetReflectance(double value);
-  double GetReflectance();
+  vtkGetMacro(Reflectance, double);
+  void SetReflectanceColor(double r, double g, double b);
+  vtkGetVector3Macro(ReflectanceColor, double);
   void SetTransmittance(double value);
-  double GetTransmittance();
+  vtkGetMacro(Transmittance, double);
   void SetIndexOfRefraction(double value);
-  double GetIndexOfRefraction();
+  vtkGetMacro(IndexOfRefraction, double);
+  void SetAttenuationColor(double r, double g, double b);
+  vtkGetVector3Macro(AttenuationColor, double);
+  void SetAttenuationDistance(double value);
+  vtkGetMacro(AttenuationDistance, double);
+  void SetMaterialLibrary(const char* filename);
+  vtkGetStringMacro(MaterialLibrary);
+  void SetLibraryMaterial(const char* name);
+  vtkGetStringMacro(LibraryMaterial);
   ///@}
 
 protected:
   vtkWhittedGeometryRepresentation();
   ~vtkWhittedGeometryRepresentation() override;
 
+  int MaterialPreset = 0;
+  double Reflectance = 0.0;
+  double ReflectanceColor[3] = { 1.0, 1.0, 1.0 };
+  double Transmittance = 0.0;
+  double IndexOfRefraction = 1.0;
+  double AttenuationColor[3] = { 1.0, 1.0, 1.0 };
+  double AttenuationDistance = 1.0;
+  char* MaterialLibrary = nullptr;
+  char* LibraryMaterial = nullptr;
+
 private:
+  // Writes the keys of the preset, the library material or the fields onto the actor's property.
+  void UpdateMaterialKeys();
+  // Sets a field (a colour) and updates the keys if it changed.
+  template <typename T>
+  void Assign(T& field, T value);
+  void AssignColor(double* field, double r, double g, double b);
+
+  vtkSmartPointer<vtkWhittedMaterialLibrary> Library; ///< MaterialLibrary as read (empty if none).
+
   vtkWhittedGeometryRepresentation(const vtkWhittedGeometryRepresentation&) = delete;
   void operator=(const vtkWhittedGeometryRepresentation&) = delete;
 };

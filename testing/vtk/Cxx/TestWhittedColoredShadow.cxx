@@ -1,6 +1,8 @@
 // Coloured shadows: light through a red transmissive slab (TRANSMITTANCE (1, 0.25, 0.25)) tints the
 // floor red; a default translucent sphere (Opacity 0.4, so transmittance 0.6) casts a grey half
-// shadow; an opaque sphere a full one.
+// shadow; an opaque sphere a full one. The slab's TRANSMITTANCE reaches 1 in red, so the energy rule
+// leaves its own colour no share: seen through it, the scene is filtered by kt per crossing, plus the
+// slab's highlight (weighted by its Opacity 0.25).
 #include "WhittedTestUtilities.h"
 
 #include "vtkCamera.h"
