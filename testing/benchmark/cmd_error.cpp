@@ -85,15 +85,15 @@ int cmdError(const Args& a) {
            "0",
            "100",
            "1",
-           fmt(refFs.errorEstimateRms),
-           fmt(refFs.errorEstimateMax),
+           fmt(refFs.truncation.rms),
+           fmt(refFs.truncation.max),
            "0",
            "0",
            "0",
            fmt(cpuMedian),
            "0"});
   std::printf("%s reference (%d spp, depth %d, threshold 0): %.2f s, error estimate RMS %.3g\n", bs.name.c_str(),
-              refSpp, refDepth, refT.median, refFs.errorEstimateRms);
+              refSpp, refDepth, refT.median, refFs.truncation.rms);
 
   struct Sampling {
     int spp;
@@ -114,7 +114,7 @@ int cmdError(const Args& a) {
   }
   for (const Sampling& s : samplings) {
     // Reference with the same samples but no truncation: isolates what the depth cap and threshold leave out,
-    // which is what FrameStats::errorEstimateRms bounds
+    // which is what FrameStats::truncation.rms bounds
     RenderSettings tr;
     tr.samplesPerPixel = s.spp;
     tr.adaptive = s.adaptive;
@@ -150,8 +150,8 @@ int cmdError(const Args& a) {
                  fmt(e.rmse),
                  fmt(e.psnr),
                  fmt(e.ssim),
-                 fmt(fs.errorEstimateRms),
-                 fmt(fs.errorEstimateMax),
+                 fmt(fs.truncation.rms),
+                 fmt(fs.truncation.max),
                  fmt(et.maxChannelRms),
                  fmt(et.maxChannelMax),
                  fmt(et.rmse),
@@ -162,7 +162,7 @@ int cmdError(const Args& a) {
             "%-12s spp %2d%s depth %d thr %6.4f: %8.2f ms (cpu %8.2f ms)  RMSE %.4f  PSNR %5.2f  SSIM %.4f  "
             "est %.4f trunc %.4f\n",
             bs.name.c_str(), s.spp, s.adaptive ? "a" : " ", depth, thr, t.median * 1e3, cpuMedian * 1e3, e.rmse, e.psnr,
-            e.ssim, fs.errorEstimateRms, et.maxChannelRms);
+            e.ssim, fs.truncation.rms, et.maxChannelRms);
         std::fflush(stdout);
       }
   }

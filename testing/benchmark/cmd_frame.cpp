@@ -73,7 +73,7 @@ int cmdFrame(const Args& a) {
                fmt(t.runs),
                fmt(fs.rays.traced()),
                fmt(fs.rays.traced() / t.median * 1e-6),
-               fmt(fs.errorEstimateRms),
+               fmt(fs.total.rms),
                fmt(prims),
                fmt(tc.median),
                fmt(fs.pixelsSupersampled)});
