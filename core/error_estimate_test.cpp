@@ -171,3 +171,69 @@ TEST(ErrorEstimate, SamplingEstimateCoverage) {
     }
   }
 }
+
+// TargetError: refinement stops as soon as the estimated total RMS is at most the target. A target above the
+// first pass's estimate adds no sample; a reachable one is met with fewer samples than a tighter one, and
+// never with every pixel at the maximum.
+TEST(ErrorEstimate, TargetErrorStopsRefiningWhenMet) {
+  Scene s;
+  CameraSpec cs;
+  buildClassicScene(s, cs);
+  s.commit();
+  const int w = 64, h = 48;
+  const Camera cam = cs.make(double(w) / h, s.bounds());
+  RenderSettings rs;
+  FrameBuffer fb;
+  const FrameStats first = render(s, cam, rs, w, h, fb);
+  ASSERT_GT(first.total.rms, 0.0);
+
+  rs.targetError = first.total.rms * 1.01;  // already met by the first pass
+  FrameStats met = render(s, cam, rs, w, h, fb);
+  EXPECT_TRUE(met.targetMet);
+  EXPECT_EQ(met.refinementRounds, 0);
+  EXPECT_EQ(met.samples, uint64_t(w * h));
+
+  uint64_t previous = 0;
+  for (double factor : {0.7, 0.4}) {
+    rs.targetError = first.total.rms * factor;
+    FrameBuffer out;
+    const FrameStats fs = render(s, cam, rs, w, h, out);
+    EXPECT_TRUE(fs.targetMet) << factor;
+    EXPECT_LE(fs.total.rms, rs.targetError) << factor;
+    EXPECT_GT(fs.refinementRounds, 0) << factor;
+    // Stopped when met: the round before did not meet it (else it would have stopped there)
+    ASSERT_GE(fs.progress.size(), 2u);
+    EXPECT_GT(fs.progress[fs.progress.size() - 2].second, rs.targetError) << factor;
+    EXPECT_GT(fs.samples, previous) << factor;
+    EXPECT_LT(fs.samples, uint64_t(w * h) * uint64_t(rs.maxProgressiveSamples)) << factor;
+    uint64_t perPixel = 0;
+    for (uint16_t n : out.samples) perPixel += n;
+    EXPECT_EQ(perPixel, fs.samples) << factor;  // the per-pixel counts account for every sample
+    previous = fs.samples;
+  }
+}
+
+// TimeBudget: with no reachable target, refinement runs until the budget is spent and stops within one tile's
+// time (plus the final estimate pass, a few ms).
+TEST(ErrorEstimate, TimeBudgetHonouredWithinOneTile) {
+  Scene s;
+  CameraSpec cs;
+  buildClassicScene(s, cs);
+  s.commit();
+  const Camera cam = cs.make(4.0 / 3.0, s.bounds());
+  RenderSettings rs;
+  rs.targetError = 1e-9;  // never met
+  rs.maxProgressiveSamples = 4096;
+  rs.threads = 2;
+  for (double budget : {0.15, 0.4}) {
+    rs.timeBudget = budget;
+    FrameBuffer fb;
+    const FrameStats fs = render(s, cam, rs, 96, 72, fb);
+    std::printf("budget %.2f s: frame %.3f s, longest tile %.4f s, %d rounds, %llu samples\n", budget,
+                fs.secondsTrace, fs.longestTileSeconds, fs.refinementRounds, (unsigned long long)fs.samples);
+    EXPECT_FALSE(fs.targetMet);
+    EXPECT_GT(fs.refinementRounds, 0);
+    EXPECT_GE(fs.secondsTrace, budget);  // it did use the budget
+    EXPECT_LE(fs.secondsTrace, budget + fs.longestTileSeconds + 0.05);
+  }
+}

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <exception>
 #include <mutex>
+#include <optional>
 #include <utility>
 #include <thread>
 
@@ -93,6 +94,8 @@ class FrameJob {
   FrameStats run() {
     FrameStats fs;
     auto start = std::chrono::steady_clock::now();
+    progressive_ = s_.errorEstimates && (s_.targetError > 0.0 || s_.timeBudget > 0.0);
+    if (progressive_) acc_.assign(std::size_t(w_) * h_, PixelSums{});
     int n = s_.samplesPerPixel < 1 ? 1 : s_.samplesPerPixel;
     int threads = s_.threads > 0 ? s_.threads : hardwareThreads();
     fs.threads = threads;
@@ -107,8 +110,9 @@ class FrameJob {
     }
     // Sampling estimate of the pixels traced with one sample, from their neighbours' final colours
     if (s_.errorEstimates) {
-      if (!aborted_) runPass(threads, [&](int tile) { estimateSingleSamplePixels(tile); }, true);
+      if (!aborted_) runPass(threads, [&](int tile) { estimateSingleSamplePixels(tile); }, false, false);
       summarizeErrors(fs);
+      if (progressive_) refine(threads, start, fs);
     }
     fs.secondsTrace = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -116,6 +120,7 @@ class FrameJob {
     for (const RayStats& r : tileStats_) fs.rays += r;
     fs.samples = samples_.load();
     fs.pixelsSupersampled = supersampled_.load();
+    fs.longestTileSeconds = longestTile_.load();
     fs.aborted = aborted_;
     fs.kernelReflection = integ_.usesReflection();
     fs.kernelRefraction = integ_.usesRefraction();
@@ -124,10 +129,10 @@ class FrameJob {
   }
 
  private:
-  /// Runs tileFn over this process's tiles on threads workers; the abort check and progress run between tiles
-  /// unless quiet (a pass that finishes a frame's side data, not its image).
+  /// Runs tileFn over this process's tiles on threads workers; the abort check (if checkAbort) and progress (if
+  /// reportProgress) run between tiles. Past deadline_ (if set) no new tile starts.
   template <typename Fn>
-  void runPass(int threads, Fn&& tileFn, bool quiet = false) {
+  void runPass(int threads, Fn&& tileFn, bool reportProgress = true, bool checkAbort = true) {
     std::atomic<std::size_t> next{0};
     std::atomic<std::size_t> done{0};
     std::atomic<bool> abortFlag{aborted_};
@@ -137,22 +142,28 @@ class FrameJob {
     std::size_t reported = 0;
     // VTK's abort check and progress must run on the calling (GL) thread
     auto report = [&](std::size_t d) {
-      if (s_.progress && !quiet && d > reported) {
+      if (s_.progress && reportProgress && d > reported) {
         reported = d;
         s_.progress(double(d) / double(total));
       }
     };
     auto poll = [&](std::size_t d) {
-      if (s_.abortCheck && !quiet && s_.abortCheck()) abortFlag = true;
+      if (s_.abortCheck && checkAbort && s_.abortCheck()) abortFlag = true;
       report(d);
     };
     auto worker = [&](bool mainThread) {
       for (;;) {
         if (abortFlag.load(std::memory_order_relaxed)) return;
+        if (deadline_ && std::chrono::steady_clock::now() >= *deadline_) break;  // budget spent: no new tile
         std::size_t i = next.fetch_add(1);
         if (i >= total) break;
         try {
+          const auto t0 = std::chrono::steady_clock::now();
           tileFn(int(i));
+          const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+          double seen = longestTile_.load(std::memory_order_relaxed);
+          while (dt > seen && !longestTile_.compare_exchange_weak(seen, dt)) {
+          }
         } catch (...) {
           // An exception (std::bad_alloc) stops the frame and is rethrown on the calling thread after the join
           std::lock_guard<std::mutex> lock(errorMutex);
@@ -166,13 +177,14 @@ class FrameJob {
       // Out of tiles: the calling thread keeps polling until the workers finish their last tiles, so progress
       // always reaches 1 and an abort stays responsive even when the workers took every tile. Without callbacks
       // there is nothing to poll, and the join below waits without the up to 1 ms a polling step adds.
-      const bool callbacks = (s_.progress || s_.abortCheck) && !quiet;
+      const bool callbacks = (s_.progress && reportProgress) || (s_.abortCheck && checkAbort);
       while (mainThread && callbacks && !abortFlag.load()) {
         std::size_t d = done.load();
         if (d >= total) {  // complete: no abort check, which could only mark a finished frame as aborted
           report(d);
           break;
         }
+        if (deadline_ && std::chrono::steady_clock::now() >= *deadline_) break;  // the join waits for tiles taken
         poll(d);
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
       }
@@ -209,59 +221,140 @@ class FrameJob {
     return scene_.background;
   }
 
-  void tracePixels(int tileSlot, int n, bool refineOnly) {
+  /// A pixel's running sums over its samples.
+  struct PixelSums {
+    Color sum{0.0f}, sum2{0.0f};
+    float alpha = 0.0f, err = 0.0f, depth = 1.0f;
+    int n = 0;
+    bool anyHit = false;
+  };
+
+  // Adds samples [first, last) of pixel (px, py) to ps; sample s of a pixel is at samplePos(s, strata) while
+  // s < strata, uniformly jittered over the pixel beyond (progressive refinement)
+  void addSamples(int px, int py, int first, int last, int strata, PixelSums& ps, RayStats& st,
+                  const Color& rowBackground) const {
+    for (int s = first; s < last; ++s) {
+      const Vec2 p = s < strata ? samplePos(px, py, s, strata)
+                                : Vec2(px + hashFloat(uint32_t(px), uint32_t(py), uint32_t(s), 2u),
+                                       py + hashFloat(uint32_t(px), uint32_t(py), uint32_t(s), 3u));
+      Ray r = camera_.rayPixel(p.x, p.y, w_, h_);
+      Sample smp = integ_.trace(r, st, rowBackground);
+      ps.sum += smp.color;  // premultiplied; a miss carries backgroundAlpha x the screen background
+      ps.sum2 += smp.color * smp.color;
+      if (smp.hit) {
+        ps.anyHit = true;
+        const double z = camera_.glDepth(smp.firstHit);
+        if (!(z >= -1e-6 && z <= 1.0 + 1e-6)) ++st.clampedDepth;  // safety net, counted
+        ps.depth = std::min(ps.depth, float(std::clamp(std::isfinite(z) ? z : 1.0, 0.0, 1.0)));
+      }
+      ps.alpha += smp.alpha;
+      ps.err += smp.truncationBound;
+    }
+    ps.n += last - first;
+  }
+
+  // Writes a pixel's colour, depth and error estimates from its sums
+  void writePixel(std::size_t idx, const PixelSums& ps, RayStats& st) {
+    const int n = ps.n;
+    float inv = 1.0f / float(n);
+    Color4 out(ps.sum * inv, ps.alpha * inv);
+    bool finite = true;
+    for (int k = 0; k < 4; ++k)
+      if (!std::isfinite(out[k])) {  // last line of defence: never a non-finite pixel (counted)
+        out[k] = 0.0f;
+        finite = false;
+      }
+    if (!finite) ++st.nonFinitePixels;
+    fb_.color[idx] = out;
+    fb_.depth[idx] = ps.depth;
+    fb_.traced[idx] = 1;
+    fb_.samples[idx] = uint16_t(std::min(n, 65535));
+    // Error estimates in the units of the clamped colour: the pixel can rise by at most its headroom to 1
+    const float headroom = 1.0f - std::clamp(std::min(std::min(out.x, out.y), out.z), 0.0f, 1.0f);
+    fb_.truncation[idx] = std::min(headroom, ps.err * inv);
+    fb_.sampling[idx] = n > 1 ? samplingEstimate(ps.sum, ps.sum2, n) : 0.0f;
+    hitMask_[idx] = ps.anyHit ? 1 : 0;
+  }
+
+  template <typename PixelFn>
+  void forTilePixels(int tileSlot, PixelFn&& fn) {
     int tile = myTiles_[tileSlot];
     int x0 = (tile % tilesX_) * ts_, y0 = (tile / tilesX_) * ts_;
     int x1 = std::min(w_, x0 + ts_), y1 = std::min(h_, y0 + ts_);
-    RayStats& st = tileStats_[tileSlot];
-    uint64_t samples = 0, refined = 0;
     for (int py = y0; py < y1; ++py) {
       const Color rowBackground = screenBackground(py);
-      for (int px = x0; px < x1; ++px) {
-        std::size_t idx = index(px, py);
-        if (refineOnly && !marks_[idx]) continue;
-        Color sum(0.0f), sum2(0.0f);
-        float alpha = 0.0f, err = 0.0f, depth = 1.0f;
-        bool anyHit = false;
-        for (int s = 0; s < n; ++s) {
-          Vec2 p = samplePos(px, py, s, n);
-          Ray r = camera_.rayPixel(p.x, p.y, w_, h_);
-          Sample smp = integ_.trace(r, st, rowBackground);
-          sum += smp.color;  // premultiplied; a miss carries backgroundAlpha x the screen background
-          sum2 += smp.color * smp.color;
-          if (smp.hit) {
-            anyHit = true;
-            const double z = camera_.glDepth(smp.firstHit);
-            if (!(z >= -1e-6 && z <= 1.0 + 1e-6)) ++st.clampedDepth;  // safety net, counted
-            depth = std::min(depth, float(std::clamp(std::isfinite(z) ? z : 1.0, 0.0, 1.0)));
-          }
-          alpha += smp.alpha;
-          err += smp.truncationBound;
-        }
-        samples += n;
-        if (refineOnly) ++refined;
-        float inv = 1.0f / float(n);
-        Color4 out(sum * inv, alpha * inv);
-        bool finite = true;
-        for (int k = 0; k < 4; ++k)
-          if (!std::isfinite(out[k])) {  // last line of defence: never a non-finite pixel (counted)
-            out[k] = 0.0f;
-            finite = false;
-          }
-        if (!finite) ++st.nonFinitePixels;
-        fb_.color[idx] = out;
-        fb_.depth[idx] = depth;
-        fb_.traced[idx] = 1;
-        fb_.samples[idx] = uint16_t(std::min(n, 65535));
-        // Error estimates in the units of the clamped colour: the pixel can rise by at most its headroom to 1
-        const float headroom = 1.0f - std::clamp(std::min(std::min(out.x, out.y), out.z), 0.0f, 1.0f);
-        fb_.truncation[idx] = std::min(headroom, err * inv);
-        fb_.sampling[idx] = n > 1 ? samplingEstimate(sum, sum2, n) : 0.0f;
-        hitMask_[idx] = anyHit ? 1 : 0;
-      }
+      for (int px = x0; px < x1; ++px) fn(px, py, index(px, py), rowBackground);
     }
+  }
+
+  void tracePixels(int tileSlot, int n, bool refineOnly) {
+    RayStats& st = tileStats_[tileSlot];
+    uint64_t samples = 0, refined = 0;
+    forTilePixels(tileSlot, [&](int px, int py, std::size_t idx, const Color& rowBackground) {
+      if (refineOnly && !marks_[idx]) return;
+      PixelSums ps;
+      addSamples(px, py, 0, n, n, ps, st, rowBackground);
+      samples += n;
+      if (refineOnly) ++refined;
+      writePixel(idx, ps, st);
+      if (progressive_) acc_[idx] = ps;
+    });
     samples_ += samples;
     supersampled_ += refined;
+  }
+
+  // Progressive rounds: double the samples of the pixels whose sampling estimate is largest (the top quarter of
+  // the pixels that can still be refined, and only those above half the target), re-estimate, until the target
+  // is met, the budget is spent or nothing is left to refine
+  void refine(int threads, std::chrono::steady_clock::time_point start, FrameStats& fs) {
+    auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+    const int maxSamples = std::clamp(s_.maxProgressiveSamples, 1, 65535);
+    if (s_.timeBudget > 0.0)
+      deadline_ = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                              std::chrono::duration<double>(s_.timeBudget));
+    fs.progress.emplace_back(elapsed(), fs.total.rms);
+    marks_.assign(std::size_t(w_) * h_, 0);
+    for (;;) {
+      fs.targetMet = s_.targetError > 0.0 && fs.total.rms <= s_.targetError;
+      if (fs.targetMet || aborted_ || (deadline_ && std::chrono::steady_clock::now() >= *deadline_)) break;
+      // The cut-off: the 75th percentile of the refinable pixels' estimates, at least half the target
+      std::vector<float> candidates;
+      for (std::size_t i = 0; i < acc_.size(); ++i)
+        if (fb_.traced[i] && acc_[i].n < maxSamples && fb_.sampling[i] > 0.0f) candidates.push_back(fb_.sampling[i]);
+      if (candidates.empty()) break;
+      auto q = candidates.begin() + std::ptrdiff_t(candidates.size() * 3 / 4);
+      std::nth_element(candidates.begin(), q, candidates.end());
+      const float cut = std::max(*q, float(0.5 * s_.targetError));
+      std::size_t marked = 0;
+      for (std::size_t i = 0; i < acc_.size(); ++i) {
+        marks_[i] = fb_.traced[i] && acc_[i].n < maxSamples && fb_.sampling[i] >= cut && fb_.sampling[i] > 0.0f;
+        marked += marks_[i];
+      }
+      if (marked == 0) break;
+      runPass(
+          threads, [&](int tile) { refinePixels(tile, maxSamples); }, false, true);
+      ++fs.refinementRounds;
+      runPass(threads, [&](int tile) { estimateSingleSamplePixels(tile); }, false, false);
+      summarizeErrors(fs);
+      fs.progress.emplace_back(elapsed(), fs.total.rms);
+    }
+    deadline_.reset();
+  }
+
+  void refinePixels(int tileSlot, int maxSamples) {
+    RayStats& st = tileStats_[tileSlot];
+    uint64_t samples = 0;
+    forTilePixels(tileSlot, [&](int px, int py, std::size_t idx, const Color& rowBackground) {
+      if (!marks_[idx]) return;
+      PixelSums& ps = acc_[idx];
+      const int add = std::min(ps.n, maxSamples - ps.n);
+      // The first pass's strata: samplesPerPixel, or 1 (the centre) for pixels adaptive sampling left alone
+      addSamples(px, py, ps.n, ps.n + add, ps.n, ps, st, rowBackground);
+      samples += add;
+      marks_[idx] = 0;
+      writePixel(idx, ps, st);
+    });
+    samples_ += samples;
   }
 
   // Twice the standard error of the mean of n samples with these sums, largest channel, at most 1
@@ -374,7 +467,11 @@ class FrameJob {
   std::vector<int> myTiles_;
   std::vector<RayStats> tileStats_;
   std::vector<uint8_t> hitMask_, marks_;
+  bool progressive_ = false;
+  std::vector<PixelSums> acc_;  ///< Per-pixel sums, kept for progressive refinement.
+  std::optional<std::chrono::steady_clock::time_point> deadline_;  ///< Refinement stops taking tiles past it.
   std::atomic<uint64_t> samples_{0}, supersampled_{0};
+  std::atomic<double> longestTile_{0.0};
   bool aborted_ = false;
 };
 

@@ -7,6 +7,7 @@
 #include "integrator.h"
 
 #include <functional>
+#include <utility>
 #include <vector>
 
 namespace whitted {
@@ -56,6 +57,13 @@ struct RenderSettings {
   /// image, about 5% of a 1-spp frame of the classic scene) and the error summaries of FrameStats. Off (e.g. for
   /// interactive frames): FrameBuffer::sampling stays 0 for them and the summaries are 0. Default on.
   bool errorEstimates = true;
+  /// Progressive refinement of a still frame (with errorEstimates): after the first pass, rounds add samples to
+  /// the pixels whose sampling estimate is largest (doubling their count, up to maxProgressiveSamples) until the
+  /// RMS of the per-pixel total estimate is at most targetError, the frame has taken timeBudget seconds, or no
+  /// pixel can be refined. Either at 0 (the default) leaves it out; both 0: no refinement.
+  double targetError = 0.0;
+  double timeBudget = 0.0;  ///< Seconds for the whole frame; checked between tiles (overshoot <= one tile).
+  int maxProgressiveSamples = 256;  ///< Most samples a pixel gets from refinement. Default 256.
   /// Called on the calling thread between tiles; return true to abort the frame. May be empty.
   std::function<bool()> abortCheck;
   /// Called on the calling thread with the fraction done. May be empty.
@@ -71,6 +79,12 @@ struct FrameStats {
   /// sum per pixel, total).
   ErrorSummary truncation, sampling, total;
   bool aborted = false;
+  /// Progressive refinement: rounds run, whether the target error was met (false without a target), and the
+  /// estimated total RMS after the first pass and after each round (with its elapsed seconds).
+  int refinementRounds = 0;
+  double longestTileSeconds = 0.0;  ///< Wall time of the slowest tile of any pass (the budget's granularity).
+  bool targetMet = false;
+  std::vector<std::pair<double, double>> progress;
   int threads = 1;
   bool kernelReflection = false, kernelRefraction = false, kernelShadows = false;
 };
