@@ -186,6 +186,7 @@ TEST(ErrorEstimate, TargetErrorStopsRefiningWhenMet) {
   FrameBuffer fb;
   const FrameStats first = render(s, cam, rs, w, h, fb);
   ASSERT_GT(first.total.rms, 0.0);
+  ASSERT_LT(first.truncation.rms, 0.4 * first.total.rms);  // the targets below are within the samples' reach
 
   rs.targetError = first.total.rms * 1.01;  // already met by the first pass
   FrameStats met = render(s, cam, rs, w, h, fb);
@@ -213,7 +214,7 @@ TEST(ErrorEstimate, TargetErrorStopsRefiningWhenMet) {
   }
 }
 
-// TimeBudget: with no reachable target, refinement runs until the budget is spent and stops within one tile's
+// TimeBudget: with no target, refinement runs until the budget is spent and stops within one tile's
 // time (plus the final estimate pass, a few ms).
 TEST(ErrorEstimate, TimeBudgetHonouredWithinOneTile) {
   Scene s;
@@ -222,8 +223,7 @@ TEST(ErrorEstimate, TimeBudgetHonouredWithinOneTile) {
   s.commit();
   const Camera cam = cs.make(4.0 / 3.0, s.bounds());
   RenderSettings rs;
-  rs.targetError = 1e-9;  // never met
-  rs.maxProgressiveSamples = 4096;
+  rs.maxProgressiveSamples = 4096;  // no target: only the budget stops it
   rs.threads = 2;
   for (double budget : {0.15, 0.4}) {
     rs.timeBudget = budget;
@@ -232,8 +232,26 @@ TEST(ErrorEstimate, TimeBudgetHonouredWithinOneTile) {
     std::printf("budget %.2f s: frame %.3f s, longest tile %.4f s, %d rounds, %llu samples\n", budget,
                 fs.secondsTrace, fs.longestTileSeconds, fs.refinementRounds, (unsigned long long)fs.samples);
     EXPECT_FALSE(fs.targetMet);
-    EXPECT_GT(fs.refinementRounds, 0);
+    EXPECT_GT(fs.refinementRounds, 1);
     EXPECT_GE(fs.secondsTrace, budget);  // it did use the budget
     EXPECT_LE(fs.secondsTrace, budget + fs.longestTileSeconds + 0.05);
   }
+}
+
+// A target below the truncation bound's RMS cannot be reached by samples: refinement does not start.
+TEST(ErrorEstimate, TargetBelowTruncationBoundIsNotChasedWithSamples) {
+  Scene s;
+  CameraSpec cs;
+  buildFacingMirrorsScene(s, cs);
+  s.commit();
+  const Camera cam = cs.make(4.0 / 3.0, s.bounds());
+  RenderSettings rs;
+  rs.integrator.maxDepth = 2;
+  FrameBuffer fb;
+  const FrameStats first = render(s, cam, rs, 48, 36, fb);
+  rs.targetError = 0.5 * first.truncation.rms;
+  const FrameStats fs = render(s, cam, rs, 48, 36, fb);
+  EXPECT_FALSE(fs.targetMet);
+  EXPECT_EQ(fs.refinementRounds, 0);
+  EXPECT_EQ(fs.samples, 48u * 36u);
 }

@@ -317,6 +317,8 @@ class FrameJob {
     for (;;) {
       fs.targetMet = s_.targetError > 0.0 && fs.total.rms <= s_.targetError;
       if (fs.targetMet || aborted_ || (deadline_ && std::chrono::steady_clock::now() >= *deadline_)) break;
+      // Samples reduce only the sampling part: a target below the truncation bound's RMS is out of their reach
+      if (s_.targetError > 0.0 && fs.truncation.rms >= s_.targetError) break;
       // The cut-off: the 75th percentile of the refinable pixels' estimates, at least half the target
       std::vector<float> candidates;
       for (std::size_t i = 0; i < acc_.size(); ++i)

@@ -60,7 +60,9 @@ struct RenderSettings {
   /// Progressive refinement of a still frame (with errorEstimates): after the first pass, rounds add samples to
   /// the pixels whose sampling estimate is largest (doubling their count, up to maxProgressiveSamples) until the
   /// RMS of the per-pixel total estimate is at most targetError, the frame has taken timeBudget seconds, or no
-  /// pixel can be refined. Either at 0 (the default) leaves it out; both 0: no refinement.
+  /// pixel can be refined. Either at 0 (the default) leaves it out; both 0: no refinement. Samples reduce only
+  /// the sampling part: refinement also stops when the truncation bound's RMS alone is at least the target
+  /// (depth and threshold are not loosened per pixel; raise maxDepth or lower the threshold).
   double targetError = 0.0;
   double timeBudget = 0.0;  ///< Seconds for the whole frame; checked between tiles (overshoot <= one tile).
   int maxProgressiveSamples = 256;  ///< Most samples a pixel gets from refinement. Default 256.
