@@ -21,6 +21,9 @@ struct ImageError {
   int maxLevels = 0;  ///< Largest channel difference in 8-bit levels (round(255 x maxChannelMax)).
 };
 
+/// Largest channel difference of two pixels' colours clamped to [0, 1] (the unit of the error estimates).
+float maxChannelDifference(const Color4& a, const Color4& b);
+
 /// Errors of img against ref (same size).
 ImageError compareImages(const FrameBuffer& img, const FrameBuffer& ref);
 
