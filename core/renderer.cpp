@@ -108,9 +108,9 @@ class FrameJob {
       markDisagreements();
       runPass(threads, [&](int tile) { tracePixels(tile, n, true); });
     }
-    // Sampling estimate of the pixels traced with one sample, from their neighbours' final colours
+    // The neighbour part of the sampling estimate, from the final colours
     if (s_.errorEstimates) {
-      if (!aborted_) runPass(threads, [&](int tile) { estimateSingleSamplePixels(tile); }, false, false);
+      if (!aborted_) runPass(threads, [&](int tile) { estimateFromNeighbours(tile); }, false, false);
       summarizeErrors(fs);
       if (progressive_) refine(threads, start, fs);
     }
@@ -336,7 +336,7 @@ class FrameJob {
       runPass(
           threads, [&](int tile) { refinePixels(tile, maxSamples); }, false, true);
       ++fs.refinementRounds;
-      runPass(threads, [&](int tile) { estimateSingleSamplePixels(tile); }, false, false);
+      runPass(threads, [&](int tile) { estimateFromNeighbours(tile); }, false, false);
       summarizeErrors(fs);
       fs.progress.emplace_back(elapsed(), fs.total.rms);
     }
@@ -365,8 +365,8 @@ class FrameJob {
     return std::min(1.0f, kSamplingStandardErrors * std::sqrt(maxComponent(var) / float(n)));
   }
 
-  // One-sample pixels of a tile: half the second difference against their neighbours (see kSamplingConfidence)
-  void estimateSingleSamplePixels(int tileSlot) {
+  // The sampling estimate of a tile's pixels from their neighbours (see kSamplingConfidence)
+  void estimateFromNeighbours(int tileSlot) {
     int tile = myTiles_[tileSlot];
     int x0 = (tile % tilesX_) * ts_, y0 = (tile / tilesX_) * ts_;
     int x1 = std::min(w_, x0 + ts_), y1 = std::min(h_, y0 + ts_);
@@ -376,11 +376,17 @@ class FrameJob {
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x) {
         const std::size_t i = index(x, y);
-        if (!traced[i] || fb_.samples[i] != 1) continue;
+        if (!traced[i]) continue;
+        const int n = fb_.samples[i];
+        // Several samples: their spread, but at least the neighbours' disagreement scaled as a mean of n samples
+        // (samples that all fell on one side of an edge show no spread)
+        const float spread =
+            n == 1 ? 0.0f : progressive_ ? samplingEstimate(acc_[i].sum, acc_[i].sum2, n) : sampling[i];
+        const float scale = n == 1 ? 1.0f : 1.0f / std::sqrt(float(n));
         const bool interior = x > 0 && y > 0 && x + 1 < w_ && y + 1 < h_ && traced[i - 1] && traced[i + 1] &&
                               traced[i - w_] && traced[i + w_];
         if (!interior) {
-          sampling[i] = std::min(1.0f, unpredicted(x, y).second);
+          sampling[i] = std::min(1.0f, std::max(spread, scale * unpredicted(x, y).second));
           continue;
         }
         // Performance note: the common case without unpredicted()'s border logic, channel by channel in plain
@@ -392,7 +398,7 @@ class FrameJob {
           d = std::max(d, std::max(std::abs(c - 0.5f * (v(i - 1) + v(i + 1))),
                                    std::abs(c - 0.5f * (v(i - w_) + v(i + w_)))));
         }
-        sampling[i] = std::min(1.0f, d);
+        sampling[i] = std::min(1.0f, std::max(spread, scale * d));
       }
   }
 

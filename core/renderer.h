@@ -29,9 +29,10 @@ struct FrameBuffer {
 
 /// What the sampling estimate states. A pixel with n >= 2 samples: twice the standard error of its mean
 /// (sample variance of the n samples / n, largest channel), which covers the pixel's true error with about 95%
-/// probability if the mean were normally distributed (stratified samples make the true spread smaller). A pixel
-/// with one sample: half the second difference of its colour against its neighbours (the rule adaptive sampling
-/// refines by), a heuristic with no probability attached; the benchmark reports the coverage measured for both.
+/// probability if the mean were normally distributed (stratified samples make the true spread smaller), but at
+/// least the neighbour term below / sqrt(n) (samples that all fell on one side of an edge show no spread). A
+/// pixel with one sample: half the second difference of its colour against its neighbours (the rule adaptive
+/// sampling refines by), a heuristic with no probability attached; the benchmark reports the coverage measured.
 constexpr double kSamplingConfidence = 0.95;
 constexpr float kSamplingStandardErrors = 2.0f;
 
@@ -53,9 +54,9 @@ struct RenderSettings {
   /// depth 1 / alpha 0 elsewhere (for sort-last compositing). Default 1/0 = everything.
   int tileStride = 1;
   int tileOffset = 0;
-  /// Compute the per-pixel sampling estimate of one-sample pixels (from their neighbours, one more pass over the
-  /// image, about 5% of a 1-spp frame of the classic scene) and the error summaries of FrameStats. Off (e.g. for
-  /// interactive frames): FrameBuffer::sampling stays 0 for them and the summaries are 0. Default on.
+  /// Compute the neighbour part of the per-pixel sampling estimate (one more pass over the image, about 5% of a
+  /// 1-spp frame of the classic scene) and the error summaries of FrameStats. Off (e.g. for interactive frames):
+  /// FrameBuffer::sampling is the samples' spread alone (0 for one-sample pixels), the summaries are 0. Default on.
   bool errorEstimates = true;
   /// Progressive refinement of a still frame (with errorEstimates): after the first pass, rounds add samples to
   /// the pixels whose sampling estimate is largest (doubling their count, up to maxProgressiveSamples) until the
