@@ -34,6 +34,10 @@ Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings, c
       &Integrator::radiance<true, false, false>,  &Integrator::radiance<true, false, true>,
       &Integrator::radiance<true, true, false>,   &Integrator::radiance<true, true, true>};
   kernel_ = table[(reflect_ ? 4 : 0) | (refract_ ? 2 : 0) | (shadows_ ? 1 : 0)];
+  // maxDepth 0 leaves the secondary machinery out, yet the reference would trace it: each hit's kr + kt is cut
+  cutAtDepthZero_ = s_.maxDepth == 0 && (f.transmissive || (s_.reflections && f.reflective));
+  s_.truncationReferenceDepth = std::max(0, s_.truncationReferenceDepth);
+  buildRemainingBounds();
 }
 
 Sample Integrator::trace(const Ray& ray, RayStats& stats, const Color& screenBackground) const {
@@ -46,7 +50,7 @@ Sample Integrator::trace(const Ray& ray, RayStats& stats, const Color& screenBac
   out.color = (this->*kernel_)(ray, 0, Color(1.0f), true, stats, ps, &tHit, &first);
   out.hit = std::isfinite(tHit);
   out.firstHit = first;
-  out.errorBound = ps.errorBound;
+  out.truncationBound = ps.truncation;
 
   // Safety nets, counted so that tests can assert they caught nothing: coverage outside [0, 1] (beyond rounding)
   // and non-finite values never reach a pixel
@@ -74,19 +78,61 @@ double fresnelDielectric(double cosi, double cost, double eta) {
   return std::isfinite(f) ? std::clamp(f, 0.0, 1.0) : 1.0;  // 0/0 only at exactly grazing incidence: reflects
 }
 
-float Integrator::remainingBound(int depth) const {
-  // Radiance a ray launched at this depth could still return: local bound times the geometric series of the
-  // largest secondary weight over the levels the reference could still trace
-  float L = scene_.localRadianceBound();
-  float k = scene_.maxSecondaryWeight();
-  (void)depth;
-  if (k < 0.999f) return L / (1.0f - k);
-  return L * 64.0f;  // effectively unbounded; callers clamp the per-pixel estimate
+void Integrator::buildRemainingBounds() {
+  // What an escaping ray can see: the background behind the pixel (solid or gradient) or, bent or reflected, the
+  // environment in its direction (an image's texels are <= 1, else the background colours)
+  float escape = std::max(maxComponent(scene_.background),
+                          scene_.gradientBackground ? maxComponent(scene_.background2) : 0.0f);
+  if (scene_.environmentMap.projection != EnvironmentMap::Projection::None) escape = std::max(escape, 1.0f);
+  // Light reaching a surface: at most colour x intensity per light (distance and cone factors are <= 1)
+  float lightSum = 0.0f;
+  for (const Light& l : scene_.lights()) lightSum += l.intensity * maxComponent(l.color);
+
+  // Per material, a hit returns at most a + k x (what its secondary rays return): a the local term (opacity x
+  // the local colour, which radiance() clamps to [0, 1]; geometry colours and texels are <= 1), k the largest
+  // kr + kt (Fresnel and total internal reflection move weight between them, never add any). Every material is
+  // counted, visible or not: a superset only loosens the bound.
+  struct Term {
+    float a, k;
+  };
+  std::vector<Term> terms;
+  float aMax = 0.0f, fixedPoint = escape;
+  bool diverges = false;
+  for (std::size_t i = 0; i < scene_.materialCount(); ++i) {
+    const Material& m = scene_.material(uint32_t(i));
+    const float amb = m.ambient * std::max(1.0f, maxComponent(m.ambientColor));
+    const float dif = m.diffuse * std::max(1.0f, maxComponent(m.diffuseColor));
+    const float spe = m.specular * maxComponent(m.specularColor);
+    const float local = m.lighting ? amb + lightSum * (dif + spe) : amb + dif;
+    const Term t{m.opacity * std::min(1.0f, local), maxComponent(m.reflectance + m.transmittance)};
+    terms.push_back(t);
+    aMax = std::max(aMax, t.a);
+    // The series B = max(escape, a + k B) has a finite fixed point unless a surface adds light (a > 0) without
+    // losing weight (k >= 1): two such facing surfaces would add a at every bounce
+    if (t.k < 1.0f)
+      fixedPoint = std::max(fixedPoint, t.a / (1.0f - t.k));
+    else if (t.a > 0.0f)
+      diverges = true;
+  }
+  seriesConverges_ = !diverges;
+  if (seriesConverges_) {
+    remaining_.assign(1, fixedPoint);  // bounds the infinite-depth image, so any deeper reference too
+    return;
+  }
+  // Divergent: bound what a reference at referenceDepth_ adds, level by level (n further levels of recursion)
+  referenceDepth_ = std::max(s_.maxDepth, s_.truncationReferenceDepth);
+  remaining_.assign(std::size_t(referenceDepth_) + 1, 0.0f);
+  remaining_[0] = std::max(escape, aMax);
+  for (std::size_t n = 1; n < remaining_.size(); ++n) {
+    float b = escape;
+    for (const Term& t : terms) b = std::max(b, t.a + t.k * remaining_[n - 1]);
+    remaining_[n] = b;
+  }
 }
 
 template <bool Shadows>
 Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Vec3& n, const Vec3& v, bool inside,
-                             RayStats& st, Color& highlight) const {
+                             RayStats& st, Color& highlight, float& shadowCut) const {
   highlight = Color(0.0f);
   // Colours as VTK's shader forms them (ambient = Ka*Ca, diffuse = Kd*Cd, specular = Ks*Cs)
   Color ca = m.ambientColor, cd = m.diffuseColor;
@@ -112,6 +158,12 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
     double att = ls.attenuation;
     double df = std::max(0.0, att * glm::dot(n, ls.toLight));
     if (!(df > 0.0)) continue;  // VTK: specular only where df > 0
+    auto specularFactor = [&]() {
+      if (s_.headlightShading) return std::pow(df, double(m.specularPower));
+      Vec3 ld = -ls.toLight;
+      Vec3 r = ld - 2.0 * glm::dot(n, ld) * n;
+      return att * std::pow(std::max(0.0, glm::dot(r, v)), double(m.specularPower));
+    };
 
     if constexpr (Shadows) {
       if (light.castShadows) {
@@ -122,24 +174,23 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
         // Stop just short of a point light (the light itself is not geometry)
         sr.tMax = std::isfinite(ls.distance) ? glm::length(light.position - sr.origin) * (1.0 - 1e-9) : kInfinity;
         ++st.shadow;
-        Color t = scene_.transmittance(sr, s_.contributionThreshold, &st.nodesVisited);
-        if (maxComponent(t) <= 0.0f) continue;
+        bool cut = false;
+        Color t = scene_.transmittance(sr, s_.contributionThreshold, &st.nodesVisited, &cut);
+        if (maxComponent(t) <= 0.0f) {
+          // Cut by the threshold, the transmittance was below it in every channel: at most that share of this
+          // light's diffuse and specular terms is missing
+          if (cut) {
+            const Color full = float(df) * lc * dif + (wantSpecular ? float(specularFactor()) * lc * spe : Color(0.0f));
+            shadowCut += s_.contributionThreshold * maxComponent(full);
+          }
+          continue;
+        }
         lc *= t;
       }
     }
 
     diffuse += float(df) * lc;
-    if (wantSpecular) {
-      double sf;
-      if (s_.headlightShading) {
-        sf = std::pow(df, double(m.specularPower));
-      } else {
-        Vec3 ld = -ls.toLight;
-        Vec3 r = ld - 2.0 * glm::dot(n, ld) * n;
-        sf = att * std::pow(std::max(0.0, glm::dot(r, v)), double(m.specularPower));
-      }
-      specular += float(sf) * lc;
-    }
+    if (wantSpecular) specular += float(specularFactor()) * lc;
   }
   highlight = spe * specular;
   return amb + dif * diffuse;
@@ -178,7 +229,11 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
   // whether or not the scene holds a transmissive actor elsewhere
   const bool inside = backFace && maxComponent(m.transmittance) > 0.0f;
   Color highlight;
-  Color body = shadeLocal<Shadows>(sp, m, nf, v, inside, st, highlight);
+  float shadowCut = 0.0f;
+  Color body = shadeLocal<Shadows>(sp, m, nf, v, inside, st, highlight, shadowCut);
+  // Light the threshold cut from shadow rays: clamping, the body share and the texture factor (<= 1) can only
+  // shrink it
+  if (shadowCut > 0.0f) ps.truncation += maxComponent(weight) * opacity * shadowCut;
   Color texel(1.0f);
   if (scene_.features().textures && m.texture >= 0 && sp.hasUV) {
     Color4 tc = scene_.texture(uint32_t(m.texture)).sample(sp.uv.x, sp.uv.y);
@@ -196,6 +251,12 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
   Color local = bodyShare == 1.0f ? (body + highlight) * texel
                                   : bodyShare * glm::clamp(body * texel, zero, one) + highlight * texel;
   Color result = opacity * glm::clamp(local, zero, one);
+  if constexpr (!Reflect && !Refract) {
+    if (cutAtDepthZero_) {
+      const Color k = s_.reflections ? m.reflectance + m.transmittance : m.transmittance;
+      ps.truncation += maxComponent(weight * k) * remainingBound(1);
+    }
+  }
 
   if constexpr (Reflect || Refract) {
     Color kr = m.reflectance, kt = m.transmittance;
@@ -248,12 +309,12 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
       if (wmax <= 0.0f) return;
       if (depth >= s_.maxDepth) {
         ++st.savedByDepth;
-        ps.errorBound += wmax * remainingBound(depth + 1);
+        ps.truncation += wmax * remainingBound(depth + 1);
         return;
       }
       if (wmax < s_.contributionThreshold) {
         ++st.savedByThreshold;
-        ps.errorBound += wmax * remainingBound(depth + 1);
+        ps.truncation += wmax * remainingBound(depth + 1);
         return;
       }
       ++counter;

@@ -6,6 +6,7 @@
 #include "scene.h"
 
 #include <cstdint>
+#include <vector>
 
 namespace whitted {
 
@@ -25,6 +26,11 @@ struct IntegratorSettings {
   /// eye) to do the same for camera rays. Default off: the view vector is minus the ray direction.
   bool viewFromEye = false;
   Vec3 eye{0.0};  ///< Camera position, used when viewFromEye is set.
+  /// Depth of the reference the truncation bound is stated against when the untraced series cannot converge
+  /// (some surface has kr + kt = 1 and a local colour, so every further bounce may add light): the bound then
+  /// covers what a render at max(this, maxDepth) and threshold 0 would add. Where the series converges the bound
+  /// holds against any depth (the infinite-depth image). Default 16.
+  int truncationReferenceDepth = 16;
 };
 
 /// Ray counts of one frame (summed over threads).
@@ -67,7 +73,9 @@ struct Sample {
   float alpha = 0.0f;
   bool hit = false;
   Vec3 firstHit{0.0};       ///< World point of the first hit (for depth).
-  float errorBound = 0.0f;  ///< Upper bound on the radiance left out by the depth cap and the threshold.
+  /// Upper bound (largest channel) on the radiance the depth cap and the contribution threshold left out of
+  /// color: what each cut ray could still have returned, plus light dropped by shadow rays cut by the threshold.
+  float truncationBound = 0.0f;
 };
 
 /// Exact unpolarised Fresnel reflectance of a dielectric interface: eta = n_incident / n_transmitted, cosi and cost
@@ -96,12 +104,17 @@ class Integrator {
   /// highlight (they are weighted apart: see bodyWeight).
   template <bool Shadows>
   Color shadeLocal(const SurfacePoint& sp, const Material& m, const Vec3& n, const Vec3& v, bool inside,
-                   RayStats& st, Color& highlight) const;
-  float remainingBound(int depth) const;
+                   RayStats& st, Color& highlight, float& shadowCut) const;
+  /// Bound on the radiance (largest channel) a secondary ray at depth childDepth could return in the reference.
+  float remainingBound(int childDepth) const {
+    if (seriesConverges_) return remaining_[0];
+    return childDepth > referenceDepth_ ? 0.0f : remaining_[std::size_t(referenceDepth_ - childDepth)];
+  }
+  void buildRemainingBounds();
 
   /// Accumulators of one camera ray's path tree.
   struct PathState {
-    float errorBound = 0.0f;  ///< Radiance bound of rays left out.
+    float truncation = 0.0f;  ///< Radiance bound of what was left out (see Sample::truncationBound).
     float escaped = 0.0f;     ///< Weight (mean over RGB) of straight escapes, times 1 - backgroundAlpha.
     Color screenBackground{0.0f};  ///< What straight escapes see (see Sample).
   };
@@ -111,6 +124,13 @@ class Integrator {
   Vec3 up_;
   bool reflect_, refract_, shadows_;
   Kernel kernel_;
+  /// Truncation bound: remaining_[n] bounds what a ray with n further levels of recursion returns (remaining_[0]
+  /// alone, the infinite series' bound, when seriesConverges_). maxDepth 0 with a reflective or transmissive
+  /// scene: the kernel has no secondary machinery, and depthZeroCut_ (max kr + kt) per hit is what was cut.
+  std::vector<float> remaining_;
+  bool seriesConverges_ = true;
+  int referenceDepth_ = 0;
+  bool cutAtDepthZero_ = false;
 };
 
 }  // namespace whitted

@@ -3,6 +3,7 @@
 #include "integrator.h"
 #include "renderer.h"
 #include "scenes.h"
+#include "stiff_scenes.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -31,19 +32,6 @@ Material glassMaterial(float ior, Color kt = Color(1.0f), Color kr = Color(0.0f)
   return m;
 }
 
-/// Axis-aligned box mesh with outward-facing triangles.
-TriangleMesh boxMesh(const Vec3& lo, const Vec3& hi) {
-  TriangleMesh m;
-  for (int i = 0; i < 8; ++i)
-    m.positions.push_back(Vec3((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z));
-  const uint32_t f[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  for (auto& q : f) {
-    m.triangles.push_back({q[0], q[1], q[2]});
-    m.triangles.push_back({q[0], q[2], q[3]});
-  }
-  return m;
-}
-
 uint32_t addObject(Scene& s, TriangleMesh m, const Material& mat, const Mat4& xf = Mat4(1.0)) {
   return s.addInstance(s.addMesh(std::move(m)), xf, s.addMaterial(mat));
 }
@@ -65,7 +53,7 @@ TEST(Integrator, SlabLateralOffsetMatchesSnell) {
   const double thickness = 1.0, n = 1.5, theta = 0.5;  // radians
   auto edgePosition = [&](bool withSlab) {
     Scene s;
-    if (withSlab) addObject(s, boxMesh(Vec3(-50, -1.0 - thickness, -50), Vec3(50, -1.0, 50)), glassMaterial(float(n)));
+    if (withSlab) addObject(s, makeBoxMesh(Vec3(-50, -1.0 - thickness, -50), Vec3(50, -1.0, 50)), glassMaterial(float(n)));
     // Screen at y = -10: white for x > 0, black for x < 0 (unlit, so the colour is exact)
     addObject(s, makeGrid(Vec3(0, -10, 50), Vec3(100, 0, 0), Vec3(0, 0, -100), 1, 1), unlit(Color(1.0f)));
     addObject(s, makeGrid(Vec3(-100, -10, 50), Vec3(100, 0, 0), Vec3(0, 0, -100), 1, 1), unlit(Color(0.0f)));
@@ -97,7 +85,7 @@ TEST(Integrator, SlabLateralOffsetMatchesSnell) {
 TEST(Integrator, TotalInternalReflectionPastCriticalAngle) {
   const double n = 1.5, critical = std::asin(1.0 / n);
   Scene s;
-  addObject(s, boxMesh(Vec3(-50, -1, -50), Vec3(50, 1, 50)), glassMaterial(float(n)));
+  addObject(s, makeBoxMesh(Vec3(-50, -1, -50), Vec3(50, 1, 50)), glassMaterial(float(n)));
   addObject(s, makeGrid(Vec3(-100, 5, 100), Vec3(200, 0, 0), Vec3(0, 0, -100 * 2), 1, 1), unlit(Color(1, 0, 0)));
   addObject(s, makeGrid(Vec3(-40, -0.5, -40), Vec3(80, 0, 0), Vec3(0, 0, 80), 1, 1), unlit(Color(0, 1, 0)));
   s.commit();
@@ -126,7 +114,7 @@ TEST(Integrator, TotalInternalReflectionPastCriticalAngle) {
 TEST(Integrator, MirrorGlassSlabNeverBrighterThanBackground) {
   const Color c(0.2f, 0.5f, 0.8f);
   Scene s;
-  addObject(s, boxMesh(Vec3(-50, -0.5, -50), Vec3(50, 0.5, 50)), glassMaterial(1.5f, Color(1.0f), Color(1.0f)));
+  addObject(s, makeBoxMesh(Vec3(-50, -0.5, -50), Vec3(50, 0.5, 50)), glassMaterial(1.5f, Color(1.0f), Color(1.0f)));
   s.background = c;
   s.commit();
   for (bool fresnel : {false, true}) {
@@ -240,7 +228,7 @@ TEST(Integrator, ContributionCutoffAndDepthCapCountSavedRays) {
     } else {
       EXPECT_EQ(st.reflection, 6u);
       EXPECT_EQ(st.savedByDepth, 1u);
-      EXPECT_GT(smp.errorBound, 0.0f);
+      EXPECT_GT(smp.truncationBound, 0.0f);
     }
   }
 }
@@ -289,7 +277,7 @@ TEST(Integrator, ErrorEstimateBoundsTrueError) {
     }
   double rms = std::sqrt(err2 / double(a.color.size()));
   EXPECT_GT(rms, 1e-3);  // the cheap settings really do lose something
-  EXPECT_GE(fs.errorEstimateRms, rms);
+  EXPECT_GE(fs.truncation.rms, rms);
 }
 
 // Over a transparent background (alpha 0, as in VTK's layered renderers) a translucent quad with kt = 0.75 gets
@@ -377,9 +365,9 @@ TEST(Integrator, OpaqueSceneUnchangedByUnrelatedTransmissiveActor) {
     m.diffuseColor = Color(0.8f, 0.6f, 0.4f);
     // A quad seen from its back, and a box seen from outside
     addObject(s, makeGrid(Vec3(-2, -2, 0), Vec3(0, 4, 0), Vec3(4, 0, 0), 1, 1), m);
-    addObject(s, boxMesh(Vec3(-0.5, -0.5, 0.5), Vec3(0.5, 0.5, 1.0)), m);
+    addObject(s, makeBoxMesh(Vec3(-0.5, -0.5, 0.5), Vec3(0.5, 0.5, 1.0)), m);
     if (withGlass)  // far behind the camera, out of every ray's and light's way
-      addObject(s, boxMesh(Vec3(-1, -1, 100), Vec3(1, 1, 102)), glassMaterial(1.5f, Color(0.9f)));
+      addObject(s, makeBoxMesh(Vec3(-1, -1, 100), Vec3(1, 1, 102)), glassMaterial(1.5f, Color(0.9f)));
     Light l;
     l.position = Vec3(0.3, 0.2, 1.0);
     s.lights().push_back(l);
@@ -423,7 +411,7 @@ TEST(Integrator, FresnelMatchesAnalyticValues) {
 TEST(Integrator, FresnelShareInTheImage) {
   auto traceAt = [](float ior, double angle, bool reflections) {
     Scene s;
-    addObject(s, boxMesh(Vec3(-1e3, -1e3, -1e3), Vec3(1e3, 1e3, 0)), glassMaterial(ior));
+    addObject(s, makeBoxMesh(Vec3(-1e3, -1e3, -1e3), Vec3(1e3, 1e3, 0)), glassMaterial(ior));
     s.background = Color(1.0f);
     s.commit();
     IntegratorSettings is;
@@ -482,7 +470,7 @@ TEST(Integrator, BeerLambertAbsorption) {
     Scene s;
     Material glass = glassMaterial(1.0f);
     glass.absorption = Color(absorption);
-    addObject(s, boxMesh(Vec3(-1, -1, -10), Vec3(1, 1, 0)), glass);
+    addObject(s, makeBoxMesh(Vec3(-1, -1, -10), Vec3(1, 1, 0)), glass);
     s.background = Color(1.0f);
     s.commit();
     IntegratorSettings is;

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <exception>
 #include <mutex>
+#include <optional>
+#include <utility>
 #include <thread>
 
 #ifdef __linux__
@@ -21,6 +23,9 @@ void FrameBuffer::resize(int w, int h) {
   color.assign(n, Color4(0.0f));
   depth.assign(n, 1.0f);
   traced.assign(n, 0);
+  truncation.assign(n, 0.0f);
+  sampling.assign(n, 0.0f);
+  samples.assign(n, 0);
 }
 
 int hardwareThreads() {
@@ -39,11 +44,37 @@ int hardwareThreads() {
 
 namespace {
 
-struct PixelResult {
-  Color4 color;
-  float depth;
-  float error;
-  bool anyHit;
+// Root mean square, 95th percentile (upper edge of a 1/4096 bin) and maximum of per-pixel values in [0, 1]
+class ErrorHistogram {
+ public:
+  void add(float e) {
+    sum2_ += double(e) * e;
+    max_ = std::max(max_, e);
+    ++hist_[std::min(kBins - 1, int(e * kBins))];
+    ++count_;
+  }
+  ErrorSummary summary() const {
+    ErrorSummary out;
+    if (count_ == 0) return out;
+    out.rms = std::sqrt(sum2_ / double(count_));
+    out.max = max_;
+    std::size_t cum = 0;
+    for (int b = 0; b < kBins; ++b) {
+      cum += hist_[b];
+      if (double(cum) >= 0.95 * double(count_)) {
+        out.p95 = std::min(double(max_), double(b + 1) / kBins);
+        break;
+      }
+    }
+    return out;
+  }
+
+ private:
+  static constexpr int kBins = 4096;
+  std::vector<uint32_t> hist_ = std::vector<uint32_t>(kBins, 0);
+  double sum2_ = 0.0;
+  float max_ = 0.0f;
+  std::size_t count_ = 0;
 };
 
 class FrameJob {
@@ -57,13 +88,14 @@ class FrameJob {
     for (int t = 0; t < tilesX_ * tilesY_; ++t)
       if (t % stride == ((s.tileOffset % stride) + stride) % stride) myTiles_.push_back(t);
     tileStats_.resize(myTiles_.size());
-    error_.assign(std::size_t(w) * h, 0.0f);
     hitMask_.assign(std::size_t(w) * h, 0);
   }
 
   FrameStats run() {
     FrameStats fs;
     auto start = std::chrono::steady_clock::now();
+    progressive_ = s_.errorEstimates && (s_.targetError > 0.0 || s_.timeBudget > 0.0);
+    if (progressive_) acc_.assign(std::size_t(w_) * h_, PixelSums{});
     int n = s_.samplesPerPixel < 1 ? 1 : s_.samplesPerPixel;
     int threads = s_.threads > 0 ? s_.threads : hardwareThreads();
     fs.threads = threads;
@@ -76,19 +108,19 @@ class FrameJob {
       markDisagreements();
       runPass(threads, [&](int tile) { tracePixels(tile, n, true); });
     }
+    // The neighbour part of the sampling estimate, from the final colours
+    if (s_.errorEstimates) {
+      if (!aborted_) runPass(threads, [&](int tile) { estimateFromNeighbours(tile); }, false, false);
+      summarizeErrors(fs);
+      if (progressive_) refine(threads, start, fs);
+    }
     fs.secondsTrace = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     // Deterministic reductions (fixed order, independent of thread count)
     for (const RayStats& r : tileStats_) fs.rays += r;
-    double sum2 = 0.0, mx = 0.0;
-    for (float e : error_) {
-      sum2 += double(e) * e;
-      mx = std::max(mx, double(e));
-    }
-    fs.errorEstimateRms = error_.empty() ? 0.0 : std::sqrt(sum2 / double(error_.size()));
-    fs.errorEstimateMax = mx;
     fs.samples = samples_.load();
     fs.pixelsSupersampled = supersampled_.load();
+    fs.longestTileSeconds = longestTile_.load();
     fs.aborted = aborted_;
     fs.kernelReflection = integ_.usesReflection();
     fs.kernelRefraction = integ_.usesRefraction();
@@ -97,8 +129,10 @@ class FrameJob {
   }
 
  private:
+  /// Runs tileFn over this process's tiles on threads workers; the abort check (if checkAbort) and progress (if
+  /// reportProgress) run between tiles. Past deadline_ (if set) no new tile starts.
   template <typename Fn>
-  void runPass(int threads, Fn&& tileFn) {
+  void runPass(int threads, Fn&& tileFn, bool reportProgress = true, bool checkAbort = true) {
     std::atomic<std::size_t> next{0};
     std::atomic<std::size_t> done{0};
     std::atomic<bool> abortFlag{aborted_};
@@ -108,22 +142,28 @@ class FrameJob {
     std::size_t reported = 0;
     // VTK's abort check and progress must run on the calling (GL) thread
     auto report = [&](std::size_t d) {
-      if (s_.progress && d > reported) {
+      if (s_.progress && reportProgress && d > reported) {
         reported = d;
         s_.progress(double(d) / double(total));
       }
     };
     auto poll = [&](std::size_t d) {
-      if (s_.abortCheck && s_.abortCheck()) abortFlag = true;
+      if (s_.abortCheck && checkAbort && s_.abortCheck()) abortFlag = true;
       report(d);
     };
     auto worker = [&](bool mainThread) {
       for (;;) {
         if (abortFlag.load(std::memory_order_relaxed)) return;
+        if (deadline_ && std::chrono::steady_clock::now() >= *deadline_) break;  // budget spent: no new tile
         std::size_t i = next.fetch_add(1);
         if (i >= total) break;
         try {
+          const auto t0 = std::chrono::steady_clock::now();
           tileFn(int(i));
+          const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+          double seen = longestTile_.load(std::memory_order_relaxed);
+          while (dt > seen && !longestTile_.compare_exchange_weak(seen, dt)) {
+          }
         } catch (...) {
           // An exception (std::bad_alloc) stops the frame and is rethrown on the calling thread after the join
           std::lock_guard<std::mutex> lock(errorMutex);
@@ -137,13 +177,14 @@ class FrameJob {
       // Out of tiles: the calling thread keeps polling until the workers finish their last tiles, so progress
       // always reaches 1 and an abort stays responsive even when the workers took every tile. Without callbacks
       // there is nothing to poll, and the join below waits without the up to 1 ms a polling step adds.
-      const bool callbacks = s_.progress || s_.abortCheck;
+      const bool callbacks = (s_.progress && reportProgress) || (s_.abortCheck && checkAbort);
       while (mainThread && callbacks && !abortFlag.load()) {
         std::size_t d = done.load();
         if (d >= total) {  // complete: no abort check, which could only mark a finished frame as aborted
           report(d);
           break;
         }
+        if (deadline_ && std::chrono::steady_clock::now() >= *deadline_) break;  // the join waits for tiles taken
         poll(d);
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
       }
@@ -180,93 +221,245 @@ class FrameJob {
     return scene_.background;
   }
 
-  void tracePixels(int tileSlot, int n, bool refineOnly) {
+  /// A pixel's running sums over its samples.
+  struct PixelSums {
+    Color sum{0.0f}, sum2{0.0f};
+    float alpha = 0.0f, err = 0.0f, depth = 1.0f;
+    int n = 0;
+    bool anyHit = false;
+  };
+
+  // Adds samples [first, last) of pixel (px, py) to ps; sample s of a pixel is at samplePos(s, strata) while
+  // s < strata, uniformly jittered over the pixel beyond (progressive refinement)
+  void addSamples(int px, int py, int first, int last, int strata, PixelSums& ps, RayStats& st,
+                  const Color& rowBackground) const {
+    for (int s = first; s < last; ++s) {
+      const Vec2 p = s < strata ? samplePos(px, py, s, strata)
+                                : Vec2(px + hashFloat(uint32_t(px), uint32_t(py), uint32_t(s), 2u),
+                                       py + hashFloat(uint32_t(px), uint32_t(py), uint32_t(s), 3u));
+      Ray r = camera_.rayPixel(p.x, p.y, w_, h_);
+      Sample smp = integ_.trace(r, st, rowBackground);
+      ps.sum += smp.color;  // premultiplied; a miss carries backgroundAlpha x the screen background
+      ps.sum2 += smp.color * smp.color;
+      if (smp.hit) {
+        ps.anyHit = true;
+        const double z = camera_.glDepth(smp.firstHit);
+        if (!(z >= -1e-6 && z <= 1.0 + 1e-6)) ++st.clampedDepth;  // safety net, counted
+        ps.depth = std::min(ps.depth, float(std::clamp(std::isfinite(z) ? z : 1.0, 0.0, 1.0)));
+      }
+      ps.alpha += smp.alpha;
+      ps.err += smp.truncationBound;
+    }
+    ps.n += last - first;
+  }
+
+  // Writes a pixel's colour, depth and error estimates from its sums
+  void writePixel(std::size_t idx, const PixelSums& ps, RayStats& st) {
+    const int n = ps.n;
+    float inv = 1.0f / float(n);
+    Color4 out(ps.sum * inv, ps.alpha * inv);
+    bool finite = true;
+    for (int k = 0; k < 4; ++k)
+      if (!std::isfinite(out[k])) {  // last line of defence: never a non-finite pixel (counted)
+        out[k] = 0.0f;
+        finite = false;
+      }
+    if (!finite) ++st.nonFinitePixels;
+    fb_.color[idx] = out;
+    fb_.depth[idx] = ps.depth;
+    fb_.traced[idx] = 1;
+    fb_.samples[idx] = uint16_t(std::min(n, 65535));
+    // Error estimates in the units of the clamped colour: the pixel can rise by at most its headroom to 1
+    const float headroom = 1.0f - std::clamp(std::min(std::min(out.x, out.y), out.z), 0.0f, 1.0f);
+    fb_.truncation[idx] = std::min(headroom, ps.err * inv);
+    fb_.sampling[idx] = n > 1 ? samplingEstimate(ps.sum, ps.sum2, n) : 0.0f;
+    hitMask_[idx] = ps.anyHit ? 1 : 0;
+  }
+
+  template <typename PixelFn>
+  void forTilePixels(int tileSlot, PixelFn&& fn) {
     int tile = myTiles_[tileSlot];
     int x0 = (tile % tilesX_) * ts_, y0 = (tile / tilesX_) * ts_;
     int x1 = std::min(w_, x0 + ts_), y1 = std::min(h_, y0 + ts_);
-    RayStats& st = tileStats_[tileSlot];
-    uint64_t samples = 0, refined = 0;
     for (int py = y0; py < y1; ++py) {
       const Color rowBackground = screenBackground(py);
-      for (int px = x0; px < x1; ++px) {
-        std::size_t idx = index(px, py);
-        if (refineOnly && !marks_[idx]) continue;
-        Color sum(0.0f);
-        float alpha = 0.0f, err = 0.0f, depth = 1.0f;
-        bool anyHit = false;
-        for (int s = 0; s < n; ++s) {
-          Vec2 p = samplePos(px, py, s, n);
-          Ray r = camera_.rayPixel(p.x, p.y, w_, h_);
-          Sample smp = integ_.trace(r, st, rowBackground);
-          sum += smp.color;  // premultiplied; a miss carries backgroundAlpha x the screen background
-          if (smp.hit) {
-            anyHit = true;
-            const double z = camera_.glDepth(smp.firstHit);
-            if (!(z >= -1e-6 && z <= 1.0 + 1e-6)) ++st.clampedDepth;  // safety net, counted
-            depth = std::min(depth, float(std::clamp(std::isfinite(z) ? z : 1.0, 0.0, 1.0)));
-          }
-          alpha += smp.alpha;
-          err += smp.errorBound;
-        }
-        samples += n;
-        if (refineOnly) ++refined;
-        float inv = 1.0f / float(n);
-        Color4 out(sum * inv, alpha * inv);
-        bool finite = true;
-        for (int k = 0; k < 4; ++k)
-          if (!std::isfinite(out[k])) {  // last line of defence: never a non-finite pixel (counted)
-            out[k] = 0.0f;
-            finite = false;
-          }
-        if (!finite) ++st.nonFinitePixels;
-        fb_.color[idx] = out;
-        fb_.depth[idx] = depth;
-        fb_.traced[idx] = 1;
-        error_[idx] = std::min(1.0f, err * inv);
-        hitMask_[idx] = anyHit ? 1 : 0;
-      }
+      for (int px = x0; px < x1; ++px) fn(px, py, index(px, py), rowBackground);
     }
+  }
+
+  void tracePixels(int tileSlot, int n, bool refineOnly) {
+    RayStats& st = tileStats_[tileSlot];
+    uint64_t samples = 0, refined = 0;
+    forTilePixels(tileSlot, [&](int px, int py, std::size_t idx, const Color& rowBackground) {
+      if (refineOnly && !marks_[idx]) return;
+      PixelSums ps;
+      addSamples(px, py, 0, n, n, ps, st, rowBackground);
+      samples += n;
+      if (refineOnly) ++refined;
+      writePixel(idx, ps, st);
+      if (progressive_) acc_[idx] = ps;
+    });
     samples_ += samples;
     supersampled_ += refined;
   }
 
-  // Marks the pixels whose centre sample its neighbours do not predict: on each axis, half the second difference
-  // (the pixel against the mean of its two neighbours; at the image border, against the line through the two
-  // pixels on the inner side) above the threshold, or a neighbour that hits where the pixel misses. A linear ramp
-  // (smooth shading) has no second difference, so only edges, silhouettes, highlights and texture detail are
-  // supersampled.
-  void markDisagreements() {
+  // Progressive rounds: double the samples of the pixels whose sampling estimate is largest (the top quarter of
+  // the pixels that can still be refined, and only those above half the target), re-estimate, until the target
+  // is met, the budget is spent or nothing is left to refine
+  void refine(int threads, std::chrono::steady_clock::time_point start, FrameStats& fs) {
+    auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+    const int maxSamples = std::clamp(s_.maxProgressiveSamples, 1, 65535);
+    if (s_.timeBudget > 0.0)
+      deadline_ = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                              std::chrono::duration<double>(s_.timeBudget));
+    fs.progress.emplace_back(elapsed(), fs.total.rms);
+    marks_.assign(std::size_t(w_) * h_, 0);
+    for (;;) {
+      fs.targetMet = s_.targetError > 0.0 && fs.total.rms <= s_.targetError;
+      if (fs.targetMet || aborted_ || (deadline_ && std::chrono::steady_clock::now() >= *deadline_)) break;
+      // Samples reduce only the sampling part: a target below the truncation bound's RMS is out of their reach
+      if (s_.targetError > 0.0 && fs.truncation.rms >= s_.targetError) break;
+      // The cut-off: the 75th percentile of the refinable pixels' estimates, at least half the target
+      std::vector<float> candidates;
+      for (std::size_t i = 0; i < acc_.size(); ++i)
+        if (fb_.traced[i] && acc_[i].n < maxSamples && fb_.sampling[i] > 0.0f) candidates.push_back(fb_.sampling[i]);
+      if (candidates.empty()) break;
+      auto q = candidates.begin() + std::ptrdiff_t(candidates.size() * 3 / 4);
+      std::nth_element(candidates.begin(), q, candidates.end());
+      const float cut = std::max(*q, float(0.5 * s_.targetError));
+      std::size_t marked = 0;
+      for (std::size_t i = 0; i < acc_.size(); ++i) {
+        marks_[i] = fb_.traced[i] && acc_[i].n < maxSamples && fb_.sampling[i] >= cut && fb_.sampling[i] > 0.0f;
+        marked += marks_[i];
+      }
+      if (marked == 0) break;
+      runPass(
+          threads, [&](int tile) { refinePixels(tile, maxSamples); }, false, true);
+      ++fs.refinementRounds;
+      runPass(threads, [&](int tile) { estimateFromNeighbours(tile); }, false, false);
+      summarizeErrors(fs);
+      fs.progress.emplace_back(elapsed(), fs.total.rms);
+    }
+    deadline_.reset();
+  }
+
+  void refinePixels(int tileSlot, int maxSamples) {
+    RayStats& st = tileStats_[tileSlot];
+    uint64_t samples = 0;
+    forTilePixels(tileSlot, [&](int px, int py, std::size_t idx, const Color& rowBackground) {
+      if (!marks_[idx]) return;
+      PixelSums& ps = acc_[idx];
+      const int add = std::min(ps.n, maxSamples - ps.n);
+      // The first pass's strata: samplesPerPixel, or 1 (the centre) for pixels adaptive sampling left alone
+      addSamples(px, py, ps.n, ps.n + add, ps.n, ps, st, rowBackground);
+      samples += add;
+      marks_[idx] = 0;
+      writePixel(idx, ps, st);
+    });
+    samples_ += samples;
+  }
+
+  // Twice the standard error of the mean of n samples with these sums, largest channel, at most 1
+  static float samplingEstimate(const Color& sum, const Color& sum2, int n) {
+    const Color var = glm::max(Color(0.0f), (sum2 - sum * sum / float(n)) / float(n - 1));
+    return std::min(1.0f, kSamplingStandardErrors * std::sqrt(maxComponent(var) / float(n)));
+  }
+
+  // The sampling estimate of a tile's pixels from their neighbours (see kSamplingConfidence)
+  void estimateFromNeighbours(int tileSlot) {
+    int tile = myTiles_[tileSlot];
+    int x0 = (tile % tilesX_) * ts_, y0 = (tile / tilesX_) * ts_;
+    int x1 = std::min(w_, x0 + ts_), y1 = std::min(h_, y0 + ts_);
+    const float* color = &fb_.color.data()->x;  // RGBA floats (glm's operator[] would branch per channel)
+    const uint8_t* traced = fb_.traced.data();
+    float* sampling = fb_.sampling.data();
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) {
+        const std::size_t i = index(x, y);
+        if (!traced[i]) continue;
+        const int n = fb_.samples[i];
+        // Several samples: their spread, but at least the neighbours' disagreement scaled as a mean of n samples
+        // (samples that all fell on one side of an edge show no spread)
+        const float spread =
+            n == 1 ? 0.0f : progressive_ ? samplingEstimate(acc_[i].sum, acc_[i].sum2, n) : sampling[i];
+        const float scale = n == 1 ? 1.0f : 1.0f / std::sqrt(float(n));
+        const bool interior = x > 0 && y > 0 && x + 1 < w_ && y + 1 < h_ && traced[i - 1] && traced[i + 1] &&
+                              traced[i - w_] && traced[i + w_];
+        if (!interior) {
+          sampling[i] = std::min(1.0f, std::max(spread, scale * unpredicted(x, y).second));
+          continue;
+        }
+        // Performance note: the common case without unpredicted()'s border logic, channel by channel in plain
+        // floats
+        float d = 0.0f;
+        for (int k = 0; k < 4; ++k) {
+          auto v = [&](std::size_t j) { return std::min(1.0f, std::max(0.0f, color[4 * j + std::size_t(k)])); };
+          const float c = v(i);
+          d = std::max(d, std::max(std::abs(c - 0.5f * (v(i - 1) + v(i + 1))),
+                                   std::abs(c - 0.5f * (v(i - w_) + v(i + w_)))));
+        }
+        sampling[i] = std::min(1.0f, std::max(spread, scale * d));
+      }
+  }
+
+  void summarizeErrors(FrameStats& fs) const {
+    ErrorHistogram truncation, sampling, total;
+    for (std::size_t i = 0; i < fb_.traced.size(); ++i) {
+      if (!fb_.traced[i]) continue;
+      truncation.add(fb_.truncation[i]);
+      sampling.add(fb_.sampling[i]);
+      total.add(std::min(1.0f, fb_.truncation[i] + fb_.sampling[i]));
+    }
+    fs.truncation = truncation.summary();
+    fs.sampling = sampling.summary();
+    fs.total = total.summary();
+  }
+
+  // How far a pixel's neighbours fail to predict its (clamped) colour: whether a neighbour hits where it misses
+  // or the reverse, and the largest over both axes of half the second difference (the pixel against the mean of
+  // its two neighbours; at the image border, against the line through the two pixels on the inner side). A
+  // linear ramp (smooth shading) has none; edges, silhouettes, highlights and texture detail do.
+  std::pair<bool, float> unpredicted(int x, int y) const {
     auto clampC = [](const Color4& c) { return glm::clamp(c, Color4(0.0f), Color4(1.0f)); };
     auto maxAbs = [](const Color4& d) {
       return std::max(std::max(std::abs(d.x), std::abs(d.y)), std::max(std::abs(d.z), std::abs(d.w)));
     };
-    auto traced = [&](int x, int y) { return x >= 0 && y >= 0 && x < w_ && y < h_ && fb_.traced[index(x, y)]; };
+    auto traced = [&](int u, int v) { return u >= 0 && v >= 0 && u < w_ && v < h_ && fb_.traced[index(u, v)]; };
+    const std::size_t i = index(x, y);
+    const Color4 c = clampC(fb_.color[i]);
+    bool hitDiffers = false;
+    float diff = 0.0f;
+    for (int axis = 0; axis < 2; ++axis) {
+      const int dx = axis == 0 ? 1 : 0, dy = 1 - dx;
+      const bool lo = traced(x - dx, y - dy), hi = traced(x + dx, y + dy);
+      if ((lo && hitMask_[index(x - dx, y - dy)] != hitMask_[i]) ||
+          (hi && hitMask_[index(x + dx, y + dy)] != hitMask_[i]))
+        hitDiffers = true;
+      if (lo && hi) {
+        const Color4 mean =
+            0.5f * (clampC(fb_.color[index(x - dx, y - dy)]) + clampC(fb_.color[index(x + dx, y + dy)]));
+        diff = std::max(diff, maxAbs(c - mean));
+      } else if (lo || hi) {
+        const int s = hi ? 1 : -1;
+        const Color4 n1 = clampC(fb_.color[index(x + s * dx, y + s * dy)]);
+        const Color4 predicted = traced(x + 2 * s * dx, y + 2 * s * dy)
+                                     ? 2.0f * n1 - clampC(fb_.color[index(x + 2 * s * dx, y + 2 * s * dy)])
+                                     : n1;
+        diff = std::max(diff, 0.5f * maxAbs(c - predicted));
+      }
+    }
+    return {hitDiffers, diff};
+  }
+
+  // Marks the pixels whose centre sample its neighbours do not predict (see unpredicted) by more than the
+  // adaptive threshold, so only edges, silhouettes, highlights and texture detail are supersampled.
+  void markDisagreements() {
     for (int y = 0; y < h_; ++y)
       for (int x = 0; x < w_; ++x) {
         const std::size_t i = index(x, y);
         if (!fb_.traced[i]) continue;
-        const Color4 c = clampC(fb_.color[i]);
-        bool mark = false;
-        for (int axis = 0; axis < 2 && !mark; ++axis) {
-          const int dx = axis == 0 ? 1 : 0, dy = 1 - dx;
-          const bool lo = traced(x - dx, y - dy), hi = traced(x + dx, y + dy);
-          if ((lo && hitMask_[index(x - dx, y - dy)] != hitMask_[i]) ||
-              (hi && hitMask_[index(x + dx, y + dy)] != hitMask_[i])) {
-            mark = true;
-          } else if (lo && hi) {
-            const Color4 mean =
-                0.5f * (clampC(fb_.color[index(x - dx, y - dy)]) + clampC(fb_.color[index(x + dx, y + dy)]));
-            mark = maxAbs(c - mean) > s_.adaptiveThreshold;
-          } else if (lo || hi) {
-            const int s = hi ? 1 : -1;
-            const Color4 n1 = clampC(fb_.color[index(x + s * dx, y + s * dy)]);
-            const Color4 predicted = traced(x + 2 * s * dx, y + 2 * s * dy)
-                                         ? 2.0f * n1 - clampC(fb_.color[index(x + 2 * s * dx, y + 2 * s * dy)])
-                                         : n1;
-            mark = 0.5f * maxAbs(c - predicted) > s_.adaptiveThreshold;
-          }
-        }
-        marks_[i] = mark ? 1 : 0;
+        const auto [hitDiffers, diff] = unpredicted(x, y);
+        marks_[i] = hitDiffers || diff > s_.adaptiveThreshold ? 1 : 0;
       }
   }
 
@@ -281,9 +474,12 @@ class FrameJob {
   int ts_, tilesX_, tilesY_;
   std::vector<int> myTiles_;
   std::vector<RayStats> tileStats_;
-  std::vector<float> error_;
   std::vector<uint8_t> hitMask_, marks_;
+  bool progressive_ = false;
+  std::vector<PixelSums> acc_;  ///< Per-pixel sums, kept for progressive refinement.
+  std::optional<std::chrono::steady_clock::time_point> deadline_;  ///< Refinement stops taking tiles past it.
   std::atomic<uint64_t> samples_{0}, supersampled_{0};
+  std::atomic<double> longestTile_{0.0};
   bool aborted_ = false;
 };
 

@@ -7,6 +7,7 @@
 #include "integrator.h"
 
 #include <functional>
+#include <utility>
 #include <vector>
 
 namespace whitted {
@@ -17,7 +18,27 @@ struct FrameBuffer {
   std::vector<Color4> color;    ///< Linear RGBA, premultiplied by alpha (not clamped).
   std::vector<float> depth;     ///< OpenGL window depth in [0,1]; 1 where nothing was hit.
   std::vector<uint8_t> traced;  ///< 1 where this process traced the pixel (see RenderSettings::tileStride).
+  /// Per-pixel error estimate, in the units of color clamped to [0, 1] (largest channel), 0 where not traced:
+  /// - truncation: an upper bound on what the depth cap and the contribution threshold left out (against the
+  ///   image traced without threshold and at infinite depth, or see IntegratorSettings::truncationReferenceDepth);
+  /// - sampling: an estimate of the pixel's anti-aliasing error (see kSamplingConfidence).
+  std::vector<float> truncation, sampling;
+  std::vector<uint16_t> samples;  ///< Camera samples taken per pixel.
   void resize(int w, int h);
+};
+
+/// What the sampling estimate states. A pixel with n >= 2 samples: twice the standard error of its mean
+/// (sample variance of the n samples / n, largest channel), which covers the pixel's true error with about 95%
+/// probability if the mean were normally distributed (stratified samples make the true spread smaller), but at
+/// least the neighbour term below / sqrt(n) (samples that all fell on one side of an edge show no spread). A
+/// pixel with one sample: half the second difference of its colour against its neighbours (the rule adaptive
+/// sampling refines by), a heuristic with no probability attached; the benchmark reports the coverage measured.
+constexpr double kSamplingConfidence = 0.95;
+constexpr float kSamplingStandardErrors = 2.0f;
+
+/// Summary over the traced pixels of one per-pixel error image.
+struct ErrorSummary {
+  double rms = 0.0, p95 = 0.0, max = 0.0;  ///< Root mean square, 95th percentile (to 1/4096) and largest value.
 };
 
 struct RenderSettings {
@@ -33,6 +54,19 @@ struct RenderSettings {
   /// depth 1 / alpha 0 elsewhere (for sort-last compositing). Default 1/0 = everything.
   int tileStride = 1;
   int tileOffset = 0;
+  /// Compute the neighbour part of the per-pixel sampling estimate (one more pass over the image, about 5% of a
+  /// 1-spp frame of the classic scene) and the error summaries of FrameStats. Off (e.g. for interactive frames):
+  /// FrameBuffer::sampling is the samples' spread alone (0 for one-sample pixels), the summaries are 0. Default on.
+  bool errorEstimates = true;
+  /// Progressive refinement of a still frame (with errorEstimates): after the first pass, rounds add samples to
+  /// the pixels whose sampling estimate is largest (doubling their count, up to maxProgressiveSamples) until the
+  /// RMS of the per-pixel total estimate is at most targetError, the frame has taken timeBudget seconds, or no
+  /// pixel can be refined. Either at 0 (the default) leaves it out; both 0: no refinement. Samples reduce only
+  /// the sampling part: refinement also stops when the truncation bound's RMS alone is at least the target
+  /// (depth and threshold are not loosened per pixel; raise maxDepth or lower the threshold).
+  double targetError = 0.0;
+  double timeBudget = 0.0;  ///< Seconds for the whole frame; checked between tiles (overshoot <= one tile).
+  int maxProgressiveSamples = 256;  ///< Most samples a pixel gets from refinement. Default 256.
   /// Called on the calling thread between tiles; return true to abort the frame. May be empty.
   std::function<bool()> abortCheck;
   /// Called on the calling thread with the fraction done. May be empty.
@@ -44,9 +78,16 @@ struct FrameStats {
   RayStats rays;
   uint64_t samples = 0;             ///< Camera samples taken.
   uint64_t pixelsSupersampled = 0;  ///< Adaptive mode: pixels that got the full sample count.
-  double errorEstimateRms = 0.0;    ///< RMS over pixels of the per-pixel bound on radiance left out (clamped to 1).
-  double errorEstimateMax = 0.0;    ///< Largest per-pixel bound.
+  /// Per-pixel error estimates summarised over the traced pixels (FrameBuffer::truncation, sampling and their
+  /// sum per pixel, total).
+  ErrorSummary truncation, sampling, total;
   bool aborted = false;
+  /// Progressive refinement: rounds run, whether the target error was met (false without a target), and the
+  /// estimated total RMS after the first pass and after each round (with its elapsed seconds).
+  int refinementRounds = 0;
+  double longestTileSeconds = 0.0;  ///< Wall time of the slowest tile of any pass (the budget's granularity).
+  bool targetMet = false;
+  std::vector<std::pair<double, double>> progress;
   int threads = 1;
   bool kernelReflection = false, kernelRefraction = false, kernelShadows = false;
 };

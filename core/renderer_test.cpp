@@ -50,7 +50,8 @@ TEST(Renderer, BitIdenticalForAnyThreadCount) {
     ASSERT_EQ(0, std::memcmp(ref.depth.data(), fb.depth.data(), ref.depth.size() * sizeof(float))) << t;
     EXPECT_EQ(st.rays.traced(), s1.rays.traced());
     EXPECT_EQ(st.rays.savedByThreshold, s1.rays.savedByThreshold);
-    EXPECT_EQ(st.errorEstimateRms, s1.errorEstimateRms);
+    EXPECT_EQ(st.truncation.rms, s1.truncation.rms);
+    EXPECT_EQ(st.sampling.rms, s1.sampling.rms);
   }
 }
 

@@ -152,8 +152,9 @@ class Scene {
   /// product of kt of every transmissive surface crossed. A surface crossed once attenuates once: a crossing that
   /// several primitives of one object report (a ray exactly through an edge or vertex shared by triangles, or
   /// through the joint of two tubes) counts once; boundary hits of one object closer than the sum of their
-  /// rounding-error bounds (PrimHit::tError) are that one crossing. Stops early once below cutoff (returns zero).
-  Color transmittance(const Ray& ray, float cutoff, uint64_t* nodes = nullptr) const;
+  /// rounding-error bounds (PrimHit::tError) are that one crossing. Stops early once below cutoff (returns zero;
+  /// *cutByThreshold, if given, is then set: every channel of the true transmittance is below cutoff).
+  Color transmittance(const Ray& ray, float cutoff, uint64_t* nodes = nullptr, bool* cutByThreshold = nullptr) const;
 
   /// Surface data of a hit.
   SurfacePoint surface(const Ray& ray, const Hit& hit) const;

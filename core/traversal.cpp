@@ -103,10 +103,10 @@ bool closestHit(const Object& o, const typename Shape::Geometry& g, uint32_t ins
 
 /// Shadow ray r (object space) through object o of shape Shape with transmittance kt: multiplies atten by kt at
 /// every crossing not counted already. Returns true when the ray is blocked (an opaque surface, or atten below
-/// cutoff).
+/// cutoff: then cut is set).
 template <typename Shape>
 bool crossObject(const Object& o, const typename Shape::Geometry& g, const Ray& r, const Color& kt, float cutoff,
-                 Color& atten, CountedCrossings& counted, uint64_t* nodes) {
+                 Color& atten, CountedCrossings& counted, bool& cut, uint64_t* nodes) {
   const bool opaque = maxComponent(kt) <= 0.0f;
   double tm = r.tMax;
   const typename Shape::Tester test(g, o.leafPrims(), r);
@@ -124,7 +124,7 @@ bool crossObject(const Object& o, const typename Shape::Geometry& g, const Ray& 
             if (opaque) return true;
             if (!h->boundary || !counted.seenOrAdd(h->t, h->tError)) {
               atten *= kt;
-              if (maxComponent(atten) < cutoff) return true;
+              if (maxComponent(atten) < cutoff) return cut = true;
             }
             if constexpr (Shape::kCrossedOnce) break;
             rr.tMin = h->t;  // the primitive's next crossing
@@ -160,8 +160,9 @@ bool Scene::intersect(const Ray& ray, Hit& hit, uint64_t* nodes) const {
   return top_.traverse<false>(ray, tMax, instancesInLeaf, nodes);
 }
 
-Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes) const {
+Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes, bool* cutByThreshold) const {
   Color atten(1.0f);
+  bool cut = false;
   CountedCrossings counted;
   double tMax = ray.tMax;
   auto instancesInLeaf = [&](uint32_t first, uint32_t count, double&) {
@@ -172,7 +173,7 @@ Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes) const 
       const Ray r = in.objectRay(ray);
       counted.clear();  // crossings are shared only between primitives of one object
       if (visitShape(o, [&](auto shape, const auto& g) {
-            return crossObject<decltype(shape)>(o, g, r, kt, cutoff, atten, counted, nodes);
+            return crossObject<decltype(shape)>(o, g, r, kt, cutoff, atten, counted, cut, nodes);
           }))
         return true;
     }
@@ -180,6 +181,7 @@ Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes) const 
   };
   const bool blocked = topInstances_.size() == 1 ? instancesInLeaf(0, 1, tMax)
                                                  : top_.traverse<true>(ray, tMax, instancesInLeaf, nodes);
+  if (cutByThreshold) *cutByThreshold = blocked && cut;
   return blocked ? Color(0.0f) : atten;
 }
 

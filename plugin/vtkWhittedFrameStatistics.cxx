@@ -18,6 +18,13 @@ void vtkWhittedFrameStatistics::Reset()
   this->TopLevelRebuilt = false;
   this->NumberOfTracedActors = this->NumberOfOpenGLProps = 0;
   this->NumberOfSafetyNetCatches = 0;
+  for (int k = 0; k < 3; ++k)
+  {
+    this->TruncationError[k] = this->SamplingError[k] = this->EstimatedError[k] = 0.0;
+  }
+  this->NumberOfSamples = 0;
+  this->RefinementRounds = 0;
+  this->TargetErrorMet = false;
   this->Aborted = this->Failed = false;
   this->Modified();
 }
@@ -51,6 +58,16 @@ void vtkWhittedFrameStatistics::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfTracedActors: " << this->NumberOfTracedActors << "\n";
   os << indent << "NumberOfOpenGLProps: " << this->NumberOfOpenGLProps << "\n";
   os << indent << "NumberOfSafetyNetCatches: " << this->NumberOfSafetyNetCatches << "\n";
+  const double* errors[3] = { this->TruncationError, this->SamplingError, this->EstimatedError };
+  const char* names[3] = { "TruncationError", "SamplingError", "EstimatedError" };
+  for (int k = 0; k < 3; ++k)
+  {
+    os << indent << names[k] << " (RMS, p95, max): " << errors[k][0] << " " << errors[k][1] << " "
+       << errors[k][2] << "\n";
+  }
+  os << indent << "NumberOfSamples: " << this->NumberOfSamples << "\n";
+  os << indent << "RefinementRounds: " << this->RefinementRounds << "\n";
+  os << indent << "TargetErrorMet: " << this->TargetErrorMet << "\n";
   os << indent << "Aborted: " << this->Aborted << "\n";
   os << indent << "Failed: " << this->Failed << "\n";
 }

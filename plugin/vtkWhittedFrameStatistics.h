@@ -92,6 +92,33 @@ public:
    */
   vtkGetMacro(NumberOfSafetyNetCatches, vtkTypeUInt64);
 
+  ///@{
+  /**
+   * The frame's error estimate, each as { RMS over pixels, 95th percentile, largest pixel }, in
+   * colour units (the tracer's colour clamped to [0, 1], largest channel; see
+   * vtkWhittedPass::GetLastErrorImage for the per-pixel images):
+   * TruncationError, an upper bound on what MaxDepth and ContributionThreshold left out (never
+   * below the true difference to a render without threshold at unlimited depth; where some surface
+   * has reflectance + transmittance 1 and its own colour, at depth 16);
+   * SamplingError, the anti-aliasing estimate (two standard errors of each pixel's mean, about 95%
+   * confidence; one-sample pixels: from their neighbours; 0 for interactive frames);
+   * EstimatedError, their per-pixel sum: what TargetError is compared with (its RMS).
+   */
+  vtkGetVector3Macro(TruncationError, double);
+  vtkGetVector3Macro(SamplingError, double);
+  vtkGetVector3Macro(EstimatedError, double);
+  ///@}
+
+  ///@{
+  /**
+   * Camera samples taken, progressive refinement rounds run, and whether the frame met the pass's
+   * TargetError (false without a target).
+   */
+  vtkGetMacro(NumberOfSamples, vtkTypeUInt64);
+  vtkGetMacro(RefinementRounds, int);
+  vtkGetMacro(TargetErrorMet, bool);
+  ///@}
+
   /**
    * The frame was aborted (the render window's CheckAbortStatus()): part of the image is traced.
    */
@@ -142,6 +169,12 @@ protected:
   int NumberOfTracedActors = 0;
   int NumberOfOpenGLProps = 0;
   vtkTypeUInt64 NumberOfSafetyNetCatches = 0;
+  double TruncationError[3] = { 0.0, 0.0, 0.0 };
+  double SamplingError[3] = { 0.0, 0.0, 0.0 };
+  double EstimatedError[3] = { 0.0, 0.0, 0.0 };
+  vtkTypeUInt64 NumberOfSamples = 0;
+  int RefinementRounds = 0;
+  bool TargetErrorMet = false;
   bool Aborted = false;
   bool Failed = false;
 

@@ -11,6 +11,7 @@
 #include "vtkFloatArray.h"
 #include "vtkFrameBufferObjectBase.h"
 #include "vtkHardwareSelector.h"
+#include "vtkImageData.h"
 #include "vtkInformationDoubleKey.h"
 #include "vtkInformationDoubleVectorKey.h"
 #include "vtkLightsPass.h"
@@ -18,6 +19,7 @@
 #include "vtkOpaquePass.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOverlayPass.h"
+#include "vtkPointData.h"
 #include "vtkRenderPassCollection.h"
 #include "vtkRenderState.h"
 #include "vtkRenderer.h"
@@ -189,6 +191,8 @@ void vtkWhittedPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Refractions: " << this->Refractions << "\n";
   os << indent << "Fresnel: " << this->Fresnel << "\n";
   os << indent << "ContributionThreshold: " << this->ContributionThreshold << "\n";
+  os << indent << "TargetError: " << this->TargetError << "\n";
+  os << indent << "TimeBudget: " << this->TimeBudget << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "Interactive: " << this->Interactive << "\n";
   os << indent << "InteractiveMaxDepth: " << this->InteractiveMaxDepth << "\n";
@@ -330,6 +334,10 @@ whitted::RenderSettings vtkWhittedPassInternals::FrameSettings(
   is.eye = whitted::Vec3(eye[0], eye[1], eye[2]);
   rs.samplesPerPixel = interactive ? 1 : pass->GetSamplesPerPixel();
   rs.adaptive = !interactive && pass->GetAdaptiveSampling();
+  // The error estimate is side data of still frames; interactive ones skip its extra pass
+  rs.errorEstimates = !interactive;
+  rs.targetError = interactive ? 0.0 : pass->GetTargetError();
+  rs.timeBudget = interactive ? 0.0 : pass->GetTimeBudget();
   rs.threads = pass->GetNumberOfThreads();
   rs.tileStride = pass->GetImageSplit()[0];
   rs.tileOffset = pass->GetImageSplit()[1];
@@ -448,6 +456,18 @@ void vtkWhittedPassInternals::RecordStatistics(
   st->NumberOfSafetyNetCatches = rays.safetyNetCatches();
   st->Aborted = r.Trace.aborted;
   st->Failed = false;
+  const whitted::ErrorSummary* summaries[3] = { &r.Trace.truncation, &r.Trace.sampling,
+    &r.Trace.total };
+  double* fields[3] = { st->TruncationError, st->SamplingError, st->EstimatedError };
+  for (int k = 0; k < 3; ++k)
+  {
+    fields[k][0] = summaries[k]->rms;
+    fields[k][1] = summaries[k]->p95;
+    fields[k][2] = summaries[k]->max;
+  }
+  st->NumberOfSamples = r.Trace.samples;
+  st->RefinementRounds = r.Trace.refinementRounds;
+  st->TargetErrorMet = r.Trace.targetMet;
   st->Modified();
 
   report = whitted::frameReport(r.Trace, scene, r.Commit, this->Frame.width, this->Frame.height,
@@ -515,4 +535,38 @@ void vtkWhittedPass::GetLastFrame(vtkFloatArray* rgba, vtkFloatArray* depth)
       depth->SetValue(i, fb.depth[i]);
     }
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkWhittedPass::GetLastErrorImage(vtkImageData* image)
+{
+  if (!image)
+  {
+    return;
+  }
+  const whitted::FrameBuffer& fb = this->Internals->Frame;
+  const vtkIdType n = static_cast<vtkIdType>(fb.width) * fb.height;
+  const bool valid = n > 0 && fb.truncation.size() == static_cast<size_t>(n) &&
+    fb.sampling.size() == static_cast<size_t>(n) && fb.samples.size() == static_cast<size_t>(n);
+  image->Initialize();
+  image->SetDimensions(valid ? fb.width : 0, valid ? fb.height : 0, valid ? 1 : 0);
+  const char* names[4] = { "TruncationError", "SamplingError", "EstimatedError", "Samples" };
+  vtkNew<vtkFloatArray> arrays[4];
+  for (int k = 0; k < 4; ++k)
+  {
+    arrays[k]->SetName(names[k]);
+    arrays[k]->SetNumberOfTuples(valid ? n : 0);
+  }
+  for (vtkIdType i = 0; valid && i < n; ++i)
+  {
+    arrays[0]->SetValue(i, fb.truncation[i]);
+    arrays[1]->SetValue(i, fb.sampling[i]);
+    arrays[2]->SetValue(i, std::min(1.0f, fb.truncation[i] + fb.sampling[i]));
+    arrays[3]->SetValue(i, static_cast<float>(fb.samples[i]));
+  }
+  for (int k = 0; k < 4; ++k)
+  {
+    image->GetPointData()->AddArray(arrays[k]);
+  }
+  image->GetPointData()->SetActiveScalars("EstimatedError");
 }

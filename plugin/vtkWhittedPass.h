@@ -51,6 +51,7 @@
 #include <string> // for std::string
 
 class vtkFloatArray;
+class vtkImageData;
 class vtkInformationDoubleKey;
 class vtkInformationDoubleVectorKey;
 class vtkWhittedFrameStatistics;
@@ -85,6 +86,9 @@ public:
    * Shadows, Reflections, Refractions: trace shadow, mirror, bent transmitted rays.
    * Fresnel: exact dielectric Fresnel at refracting surfaces.
    * ContributionThreshold: secondary rays of a smaller path weight are not traced.
+   * TargetError, TimeBudget: progressive refinement of still frames, steered by the per-pixel error
+   * estimate (GetLastErrorImage): samples go where the estimated sampling error is largest until
+   * the estimated error's RMS is at most TargetError or TimeBudget seconds of tracing are spent.
    * NumberOfThreads: tracing threads; 0 = every core the process may run on.
    */
   vtkSetClampMacro(
@@ -111,6 +115,12 @@ public:
   vtkSetClampMacro(ContributionThreshold, double, vtkWhittedSettings::ContributionThreshold.Minimum,
     vtkWhittedSettings::ContributionThreshold.Maximum);
   vtkGetMacro(ContributionThreshold, double);
+  vtkSetClampMacro(TargetError, double, vtkWhittedSettings::TargetError.Minimum,
+    vtkWhittedSettings::TargetError.Maximum);
+  vtkGetMacro(TargetError, double);
+  vtkSetClampMacro(TimeBudget, double, vtkWhittedSettings::TimeBudget.Minimum,
+    vtkWhittedSettings::TimeBudget.Maximum);
+  vtkGetMacro(TimeBudget, double);
   vtkSetClampMacro(NumberOfThreads, int, vtkWhittedSettings::NumberOfThreads.Minimum,
     vtkWhittedSettings::NumberOfThreads.Maximum);
   vtkGetMacro(NumberOfThreads, int);
@@ -193,6 +203,18 @@ public:
   void GetLastFrame(vtkFloatArray* rgba, vtkFloatArray* depth);
 
   /**
+   * The last frame's per-pixel error estimate as an image of GetLastFrameStatistics()->GetSize()
+   * points (rows bottom to top), in colour units (the tracer's colour clamped to [0, 1], largest
+   * channel): point arrays "TruncationError" (an upper bound on what MaxDepth and
+   * ContributionThreshold left out), "SamplingError" (the anti-aliasing estimate: two standard
+   * errors of the pixel's mean with several samples, about 95% confidence; from the neighbours
+   * with one sample), "EstimatedError" (their sum, capped at 1; the active scalars) and "Samples"
+   * (camera samples per pixel). Interactive frames leave SamplingError 0. Empty after a failed
+   * frame.
+   */
+  void GetLastErrorImage(vtkImageData* image);
+
+  /**
    * The last frame's statistics as a human-readable report (the same text as the core's
    * command-line renderer, plus the VTK phases). Empty before the first frame.
    */
@@ -215,6 +237,8 @@ protected:
   bool Refractions = vtkWhittedSettings::Refractions.Default;
   bool Fresnel = vtkWhittedSettings::Fresnel.Default;
   double ContributionThreshold = vtkWhittedSettings::ContributionThreshold.Default;
+  double TargetError = vtkWhittedSettings::TargetError.Default;
+  double TimeBudget = vtkWhittedSettings::TimeBudget.Default;
   int NumberOfThreads = vtkWhittedSettings::NumberOfThreads.Default;
   bool Interactive = false;
   int InteractiveMaxDepth = vtkWhittedSettings::InteractiveMaxDepth.Default;

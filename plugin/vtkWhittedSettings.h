@@ -48,6 +48,15 @@
     "A secondary ray whose weight (the product of the reflectances and transmittances along its "  \
     "path) is below this value is not traced. The default, 1/255, can change a pixel by less "     \
     "than one 8-bit step; larger values are faster and darken deep reflections.")                  \
+  X(Pass, double, TargetError, 0.0, 0.0, 1.0,                                                      \
+    "Still frames: add samples where the estimated anti-aliasing error is largest until the "      \
+    "frame's estimated error (RMS over pixels of the truncation bound plus the sampling "           \
+    "estimate, in colour units 0..1) is at most this value; 0 = no target. Interactive frames are " \
+    "never refined.")                                                                              \
+  X(Pass, double, TimeBudget, 0.0, 0.0, 3600.0,                                                    \
+    "Still frames: refine progressively (as for Target Error) for at most this many seconds of "   \
+    "tracing, stopping early when Target Error is met; 0 = no budget. The first pass always "      \
+    "completes; refinement stops within one tile's time of the budget.")                           \
   X(Pass, int, NumberOfThreads, 0, 0, 1024,                                                        \
     "Tracing threads per rendering process; 0 uses every core the process may run on (its CPU "    \
     "affinity: mpirun binds each rank to one core by default, so start pvserver or pvbatch with "  \

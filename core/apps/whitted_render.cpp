@@ -1,6 +1,7 @@
 // Command-line renderer of the built-in scenes (headless; no VTK). Used by the benchmark and for quick checks.
 //   whitted_render [--scene classic] [--size 800x600] [--spp 1] [--adaptive] [--depth 5] [--threshold 0.0039]
 //                  [--threads 0] [--no-shadows] [--no-reflections] [--no-refractions] [--fresnel]
+//                  [--target-error E] [--time-budget S] (progressive refinement by the error estimate)
 //                  [--repeat 1] [--out image.png] [--depth-out depth.raw]
 #include "image.h"
 #include "report.h"
@@ -60,6 +61,10 @@ bool parseOptions(int argc, char** argv, Options& o) {
       rs.integrator.refractions = false;
     else if (a == "--fresnel")
       rs.integrator.fresnel = true;
+    else if (a == "--target-error")
+      rs.targetError = std::atof(next());
+    else if (a == "--time-budget")
+      rs.timeBudget = std::atof(next());
     else if (a == "--repeat")
       o.repeat = std::max(1, std::atoi(next()));
     else if (a == "--out")

@@ -35,6 +35,9 @@ def parse_args(argv):
     ap.add_argument("--depth", type=int, help="max secondary depth (MaxDepth)")
     ap.add_argument("--threshold", type=float, help="contribution threshold (ContributionThreshold)")
     ap.add_argument("--threads", type=int, help="threads, 0 = all cores (NumberOfThreads)")
+    ap.add_argument("--target-error", type=float,
+                    help="refine until the estimated error's RMS is at most this (TargetError)")
+    ap.add_argument("--time-budget", type=float, help="refine for at most this many seconds (TimeBudget)")
     ap.add_argument("--no-shadows", action="store_true")
     ap.add_argument("--no-reflections", action="store_true")
     ap.add_argument("--no-refractions", action="store_true")
@@ -52,7 +55,9 @@ def make_pass(args):
     whitted_pass = vtkWhittedPass()
     for value, setter in ((args.spp, whitted_pass.SetSamplesPerPixel), (args.depth, whitted_pass.SetMaxDepth),
                           (args.threshold, whitted_pass.SetContributionThreshold),
-                          (args.threads, whitted_pass.SetNumberOfThreads)):
+                          (args.threads, whitted_pass.SetNumberOfThreads),
+                          (args.target_error, whitted_pass.SetTargetError),
+                          (args.time_budget, whitted_pass.SetTimeBudget)):
         if value is not None:
             setter(value)
     for flag, setter in ((args.adaptive, whitted_pass.AdaptiveSamplingOn),

@@ -1,5 +1,7 @@
 #include "bench_scenes.h"
 
+#include "stiff_scenes.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -34,15 +36,6 @@ Color4 coolWarm(double s) {
   const Color c0(0.23f, 0.30f, 0.75f), c1(0.87f, 0.87f, 0.87f), c2(0.71f, 0.02f, 0.15f);
   Color c = s < 0.5 ? glm::mix(c0, c1, float(2.0 * s)) : glm::mix(c1, c2, float(2.0 * s - 1.0));
   return Color4(c, 1.0f);
-}
-
-Light pointLight(const Vec3& p) {
-  Light l;
-  l.positional = true;
-  l.position = p;
-  l.focalPoint = Vec3(0.0);
-  l.coneAngle = 180.0;
-  return l;
 }
 
 /// A flat rectangle (two triangles) at height y spanning [x0,x1] x [z0,z1], normal +y.
@@ -114,7 +107,7 @@ void buildPoints(BenchScene& out, int count) {
   fm.diffuse = 0.8f;
   fm.reflectance = Color(0.3f);
   out.scene.addInstance(out.scene.addMesh(floorQuad(-0.3, -1.6, 1.6, -1.6, 1.6)), Mat4(1.0), out.scene.addMaterial(fm));
-  out.scene.lights().push_back(pointLight(Vec3(0.8, 3.0, 1.2)));
+  out.scene.lights().push_back(makePointLight(Vec3(0.8, 3.0, 1.2)));
   out.scene.background = Color(0.1f, 0.1f, 0.15f);
   out.camera.eye = Vec3(0.0, 1.5, 2.4);
   out.camera.focal = Vec3(0.0, -0.1, 0.0);
@@ -162,7 +155,7 @@ void buildTubes(BenchScene& out, int lines, int steps) {
   tm.colorSource = ColorSource::ScalarsAmbientAndDiffuse;
   out.mainMaterial = tm;
   out.scene.addInstance(out.scene.addTubes(std::move(c)), Mat4(1.0), out.scene.addMaterial(tm));
-  out.scene.lights().push_back(pointLight(Vec3(-4.0, 14.0, 12.0)));
+  out.scene.lights().push_back(makePointLight(Vec3(-4.0, 14.0, 12.0)));
   out.scene.background = Color(0.32f, 0.34f, 0.43f);
   Bounds3 b{Vec3(0.0), Vec3(twoPi)};
   out.camera = frameBounds(b, glm::normalize(Vec3(1.0, 0.7, 1.5)), Vec3(0.0, 1.0, 0.0), 30.0, 1.2);
@@ -224,7 +217,7 @@ void buildGlassMirror(BenchScene& out) {
   out.scene.addInstance(out.scene.addSpheres(std::move(glassBalls)), Mat4(1.0), glassMat);
   out.scene.addInstance(out.scene.addSpheres(std::move(mirrorBalls)), Mat4(1.0), mirrorMat);
 
-  out.scene.lights().push_back(pointLight(Vec3(1.0, 6.0, 3.0)));
+  out.scene.lights().push_back(makePointLight(Vec3(1.0, 6.0, 3.0)));
   out.scene.background = Color(0.05f, 0.05f, 0.08f);
   out.camera.eye = Vec3(-1.2, 2.6, 6.5);
   out.camera.focal = Vec3(0.3, 0.6, -0.5);
@@ -394,6 +387,22 @@ bool buildNamed(const std::string& name, const std::vector<std::string>& dataDir
     out.description = "glass and mirror balls between two facing mirrors (deep recursion)";
     return true;
   }
+  // Stiff scenes of the error estimate's calibration (core/stiff_scenes.h)
+  struct Stiff {
+    const char* name;
+    void (*build)(Scene&, CameraSpec&);
+    const char* description;
+  };
+  static const Stiff stiff[] = {
+      {"mirrors", buildFacingMirrorsScene, "two facing mirrors (kr 0.9), up to ~20 bounces"},
+      {"nestedglass", buildNestedGlassScene, "glass sphere in a glass sphere (kr + kt = 1), opaque core"},
+      {"lightinglass", buildLightInGlassScene, "point light inside two glass boxes (shadow transmittance 0.12)"}};
+  for (const Stiff& st : stiff)
+    if (name == st.name) {
+      st.build(out.scene, out.camera);
+      out.description = st.description;
+      return true;
+    }
   error = "unknown scene '" + name + "'";
   return false;
 }

@@ -1,7 +1,9 @@
 // whitted_bench error --scene NAME --size WxH: error against a high-quality reference (--ref-spp, --ref-depth,
 // threshold 0) vs run time over samples per pixel x depth x contribution threshold; RMSE, PSNR, SSIM and the
-// renderer's own error estimate against what it bounds. --budget S: slow settings get fewer timed runs;
-// --quick: a few settings only; --png-dir DIR keeps the reference and default images.
+// renderer's own error estimate against what it bounds (truncation: every pixel checked; sampling: coverage against
+// the reference); then the progressive mode (default settings, TimeBudget 1.5-12x the default frame's time).
+// --budget S: slow settings get fewer timed runs; --quick: a few settings only; --png-dir DIR keeps the reference
+// and default images.
 #include "bench_commands.h"
 #include "image_metrics.h"
 
@@ -44,7 +46,19 @@ int cmdError(const Args& a) {
                                "trunc_max",
                                "trunc_rmse",
                                "cpu_seconds_median",
-                               "pixels_supersampled"});
+                               "pixels_supersampled",
+                               "est_p95",
+                               "trunc_under_pixels",
+                               "samp_rms",
+                               "samp_p95",
+                               "samp_max",
+                               "samp_coverage",
+                               "samp_coverage_err",
+                               "samp_err_pixels",
+                               "total_est_rms",
+                               "progressive",
+                               "time_budget",
+                               "samples"});
   double budget = a.real("budget", 3.0);
   // Wall time (the renderer's timer) and the process CPU time of the same runs: on a shared machine the CPU
   // time is the stable cost measure
@@ -85,15 +99,27 @@ int cmdError(const Args& a) {
            "0",
            "100",
            "1",
-           fmt(refFs.errorEstimateRms),
-           fmt(refFs.errorEstimateMax),
+           fmt(refFs.truncation.rms),
+           fmt(refFs.truncation.max),
            "0",
            "0",
            "0",
            fmt(cpuMedian),
-           "0"});
+           "0",
+           fmt(refFs.truncation.p95),
+           "0",
+           fmt(refFs.sampling.rms),
+           fmt(refFs.sampling.p95),
+           fmt(refFs.sampling.max),
+           "",
+           "",
+           "",
+           fmt(refFs.total.rms),
+           "0",
+           "0",
+           fmt(refFs.samples)});
   std::printf("%s reference (%d spp, depth %d, threshold 0): %.2f s, error estimate RMS %.3g\n", bs.name.c_str(),
-              refSpp, refDepth, refT.median, refFs.errorEstimateRms);
+              refSpp, refDepth, refT.median, refFs.truncation.rms);
 
   struct Sampling {
     int spp;
@@ -112,9 +138,10 @@ int cmdError(const Args& a) {
     depths = {5};
     thresholds = {1.0f / 255};
   }
+  double defaultSeconds = 0.0;
   for (const Sampling& s : samplings) {
     // Reference with the same samples but no truncation: isolates what the depth cap and threshold leave out,
-    // which is what FrameStats::errorEstimateRms bounds
+    // which is what FrameStats::truncation.rms bounds
     RenderSettings tr;
     tr.samplesPerPixel = s.spp;
     tr.adaptive = s.adaptive;
@@ -123,6 +150,21 @@ int cmdError(const Args& a) {
     FrameBuffer truncFb;
     FrameStats truncFs;
     render(bs.scene, cam, tr, w, h, truncFb);
+    // Sampling estimate against the truth: this untruncated render's own estimate vs its difference to the
+    // reference (same depth and threshold, many samples). Coverage over all pixels, and over the pixels whose
+    // error is at least one 8-bit step (most pixels have none)
+    std::size_t covered = 0, errPixels = 0, errCovered = 0;
+    for (std::size_t i = 0; i < truncFb.color.size(); ++i) {
+      const float d = maxChannelDifference(truncFb.color[i], refFb.color[i]);
+      const bool ok = d <= truncFb.sampling[i];
+      covered += ok;
+      if (d >= 1.0f / 255) {
+        ++errPixels;
+        errCovered += ok;
+      }
+    }
+    const double coverage = double(covered) / double(std::max<std::size_t>(1, truncFb.color.size()));
+    const double coverageErr = errPixels ? double(errCovered) / double(errPixels) : 1.0;
     for (int depth : depths)
       for (float thr : thresholds) {
         RenderSettings rs;
@@ -136,6 +178,10 @@ int cmdError(const Args& a) {
         Timing t = renderTimed(rs, fb, fs, warmup, reps);
         ImageError e = compareImages(fb, refFb);
         ImageError et = compareImages(fb, truncFb);
+        // The truncation bound, pixel by pixel, against what the same samples at the reference depth add
+        std::size_t under = 0;
+        for (std::size_t i = 0; i < fb.color.size(); ++i)
+          under += fb.truncation[i] + 1e-5f < maxChannelDifference(fb.color[i], truncFb.color[i]);
         csv.row({bs.name,
                  fmt(s.spp),
                  fmt(int(s.adaptive)),
@@ -150,21 +196,59 @@ int cmdError(const Args& a) {
                  fmt(e.rmse),
                  fmt(e.psnr),
                  fmt(e.ssim),
-                 fmt(fs.errorEstimateRms),
-                 fmt(fs.errorEstimateMax),
+                 fmt(fs.truncation.rms),
+                 fmt(fs.truncation.max),
                  fmt(et.maxChannelRms),
                  fmt(et.maxChannelMax),
                  fmt(et.rmse),
                  fmt(cpuMedian),
-                 fmt(fs.pixelsSupersampled)});
+                 fmt(fs.pixelsSupersampled),
+                 fmt(fs.truncation.p95),
+                 fmt(under),
+                 fmt(fs.sampling.rms),
+                 fmt(fs.sampling.p95),
+                 fmt(fs.sampling.max),
+                 fmt(coverage),
+                 fmt(coverageErr),
+                 fmt(errPixels),
+                 fmt(fs.total.rms),
+                 "0",
+                 "0",
+                 fmt(fs.samples)});
+        if (isDefault) defaultSeconds = t.median;
         if (isDefault) savePng(pngDir.empty() ? "" : pngDir + "/" + bs.name + "_default.png", fb);
         std::printf(
             "%-12s spp %2d%s depth %d thr %6.4f: %8.2f ms (cpu %8.2f ms)  RMSE %.4f  PSNR %5.2f  SSIM %.4f  "
             "est %.4f trunc %.4f\n",
             bs.name.c_str(), s.spp, s.adaptive ? "a" : " ", depth, thr, t.median * 1e3, cpuMedian * 1e3, e.rmse, e.psnr,
-            e.ssim, fs.errorEstimateRms, et.maxChannelRms);
+            e.ssim, fs.truncation.rms, et.maxChannelRms);
         std::fflush(stdout);
       }
+  }
+
+  // Progressive mode: the default settings refined by the error estimate for a time budget (no target), error
+  // against the reference at each budget: the curve to set against the fixed settings' Pareto front
+  if (defaultSeconds > 0.0) {
+    std::vector<double> factors = quick ? std::vector<double>{2.0} : std::vector<double>{1.5, 3.0, 6.0, 12.0};
+    for (double f : factors) {
+      RenderSettings rs;
+      rs.timeBudget = f * defaultSeconds;
+      FrameBuffer fb;
+      FrameStats fs;
+      Timing t = renderTimed(rs, fb, fs, warmup, reps);
+      ImageError e = compareImages(fb, refFb);
+      csv.row({bs.name, "1",         "0",         "5",         fmt(1.0f / 255),   "0",
+               "0",     fmt(t.median), fmt(t.min), fmt(t.runs), fmt(fs.rays.traced()), fmt(e.rmse),
+               fmt(e.psnr), fmt(e.ssim), fmt(fs.truncation.rms), fmt(fs.truncation.max), "", "",
+               "",      fmt(cpuMedian), "0",       fmt(fs.truncation.p95), "", fmt(fs.sampling.rms),
+               fmt(fs.sampling.p95), fmt(fs.sampling.max), "", "", "", fmt(fs.total.rms),
+               "1",     fmt(rs.timeBudget), fmt(fs.samples)});
+      std::printf("%-12s progressive, budget %6.1f ms: %8.2f ms (cpu %8.2f ms), %d rounds, %.2f spp, RMSE %.4f, "
+                  "estimate %.4f\n",
+                  bs.name.c_str(), rs.timeBudget * 1e3, t.median * 1e3, cpuMedian * 1e3, fs.refinementRounds,
+                  double(fs.samples) / double(w * h), e.rmse, fs.total.rms);
+      std::fflush(stdout);
+    }
   }
   return 0;
 }

@@ -1,6 +1,7 @@
 // whitted_bench frame --scene NAME --sizes WxH,...: whole frames (trace time after the BVH build, median of
 // --reps runs after --warmup), at each thread count of --threads-list; --png FILE keeps the last image.
-// Render settings: --spp, --adaptive, --depth, --threshold, --no-shadows.
+// Render settings: --spp, --adaptive, --depth, --threshold, --no-shadows, --no-error-estimates (as interactive
+// frames), --target-error E, --time-budget S (progressive refinement).
 #include "bench_commands.h"
 
 #include <cstdio>
@@ -73,7 +74,7 @@ int cmdFrame(const Args& a) {
                fmt(t.runs),
                fmt(fs.rays.traced()),
                fmt(fs.rays.traced() / t.median * 1e-6),
-               fmt(fs.errorEstimateRms),
+               fmt(fs.total.rms),
                fmt(prims),
                fmt(tc.median),
                fmt(fs.pixelsSupersampled)});

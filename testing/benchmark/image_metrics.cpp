@@ -63,6 +63,12 @@ double ssimChannel(const std::vector<double>& a, const std::vector<double>& b, i
 
 }  // namespace
 
+float maxChannelDifference(const Color4& a, const Color4& b) {
+  float m = 0.0f;
+  for (int c = 0; c < 3; ++c) m = std::max(m, std::abs(float(clamp01(a[c])) - float(clamp01(b[c]))));
+  return m;
+}
+
 ImageError compareImages(const FrameBuffer& img, const FrameBuffer& ref) {
   ImageError e;
   std::size_t n = std::min(img.color.size(), ref.color.size());

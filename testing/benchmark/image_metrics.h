@@ -13,13 +13,16 @@ struct ImageError {
   double rmse = 0.0;  ///< Root mean square over pixels and the three channels.
   double psnr = 0.0;  ///< 20 log10(1 / rmse) in dB (capped at 100 for identical images).
   double ssim = 1.0;  ///< Mean SSIM over RGB channels (Gaussian window sigma 1.5, 11 x 11; Wang et al. 2004).
-  /// The quantity FrameStats::errorEstimateRms bounds: per pixel the largest channel difference, then RMS (and
+  /// The quantity FrameStats::truncation bounds: per pixel the largest channel difference, then RMS (and
   /// max) over pixels. Compared against a reference traced with the same samples, it isolates the radiance left
   /// out by the depth cap and the contribution threshold.
   double maxChannelRms = 0.0;
   double maxChannelMax = 0.0;
   int maxLevels = 0;  ///< Largest channel difference in 8-bit levels (round(255 x maxChannelMax)).
 };
+
+/// Largest channel difference of two pixels' colours clamped to [0, 1] (the unit of the error estimates).
+float maxChannelDifference(const Color4& a, const Color4& b);
 
 /// Errors of img against ref (same size).
 ImageError compareImages(const FrameBuffer& img, const FrameBuffer& ref);

@@ -119,6 +119,22 @@ double vtkPVWhittedView::GetContributionThreshold()
 {
   return this->WhittedPass->GetContributionThreshold();
 }
+void vtkPVWhittedView::SetTargetError(double value)
+{
+  this->WhittedPass->SetTargetError(value);
+}
+double vtkPVWhittedView::GetTargetError()
+{
+  return this->WhittedPass->GetTargetError();
+}
+void vtkPVWhittedView::SetTimeBudget(double value)
+{
+  this->WhittedPass->SetTimeBudget(value);
+}
+double vtkPVWhittedView::GetTimeBudget()
+{
+  return this->WhittedPass->GetTimeBudget();
+}
 void vtkPVWhittedView::SetNumberOfThreads(int value)
 {
   this->WhittedPass->SetNumberOfThreads(value);
@@ -348,6 +364,15 @@ void vtkPVWhittedView::Render(bool interactive, bool skip_rendering)
       this->InteractiveFullFrameCost = fullFrameCost;
     }
     this->LastFrameReport = pass->GetLastFrameReport();
+    if (!interactive)
+    {
+      stats->GetEstimatedError(this->LastEstimatedError);
+      stats->GetTruncationError(this->LastTruncationError);
+      stats->GetSamplingError(this->LastSamplingError);
+      this->LastTargetErrorMet = stats->GetTargetErrorMet();
+      this->LastNumberOfSamples = static_cast<double>(stats->GetNumberOfSamples());
+      this->LastRefinementRounds = stats->GetRefinementRounds();
+    }
   }
   this->LastFrameInteractive = interactive;
   this->LastImageReduction = reduction;

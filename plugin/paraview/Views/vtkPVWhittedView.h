@@ -79,6 +79,10 @@ public:
   bool GetFresnel();
   void SetContributionThreshold(double value);
   double GetContributionThreshold();
+  void SetTargetError(double value);
+  double GetTargetError();
+  void SetTimeBudget(double value);
+  double GetTimeBudget();
   void SetNumberOfThreads(int value);
   int GetNumberOfThreads();
   void SetInteractiveMaxDepth(int value);
@@ -144,6 +148,21 @@ public:
   const char* GetLastFrameReport();
   ///@}
 
+  ///@{
+  /**
+   * The error estimate of the last still frame traced on this process (information-only
+   * properties): { RMS, 95th percentile, max } of the per-pixel estimated error, truncation bound
+   * and sampling estimate (see vtkWhittedFrameStatistics), whether it met TargetError, its camera
+   * samples and refinement rounds. Interactive frames leave them as they are.
+   */
+  vtkGetVector3Macro(LastEstimatedError, double);
+  vtkGetVector3Macro(LastTruncationError, double);
+  vtkGetVector3Macro(LastSamplingError, double);
+  vtkGetMacro(LastTargetErrorMet, bool);
+  vtkGetMacro(LastNumberOfSamples, double);
+  vtkGetMacro(LastRefinementRounds, int);
+  ///@}
+
   /**
    * The pass (for C++ callers and tests).
    */
@@ -187,6 +206,12 @@ protected:
   double InteractiveFullFrameCost = 0;
   double LastFixedTime = 0;
   bool LastFrameInteractive = false;
+  double LastEstimatedError[3] = { 0.0, 0.0, 0.0 };
+  double LastTruncationError[3] = { 0.0, 0.0, 0.0 };
+  double LastSamplingError[3] = { 0.0, 0.0, 0.0 };
+  bool LastTargetErrorMet = false;
+  double LastNumberOfSamples = 0.0;
+  int LastRefinementRounds = 0;
   int TracedFrameCount = 0;
   double LastRenderTime = 0;
   int LastImageReduction = 1;

@@ -32,7 +32,8 @@ def config(quick):
         scaling_sizes=["256x192", "512x384", "1024x768", "2048x1536"],
         scaling_thread_scenes=["classic", "iso1m", "tubes"], scaling_thread_size="1024x768",
         update_scene="iso1m", update_size="1024x768", update_reps=5,
-        error_scenes=["classic", "iso1m", "points100k", "tubes", "glassmirror"], error_size="192x144",
+        error_scenes=["classic", "iso1m", "points100k", "tubes", "glassmirror", "mirrors", "nestedglass",
+                      "lightinglass"], error_size="192x144",
         error_ref_spp=64, error_ref_depth=16, error_reps=3, error_budget=1.5, meshes=["1m", "4m"],
         mpi_extent=122, mpi_size="1024x768", mpi_frames=3, mpi_reps=3,
         pv_extent=122, pv_size="1024x768", pv_still=5, pv_changes=3, pv_reps=3)

@@ -277,8 +277,9 @@ def pareto(points):
     return front
 
 
-def error(ctx, err, tkey, tlabel):
-    """Per scene: RMSE and 1 - SSIM against cost, the Pareto front, the default marked; returns the file names."""
+def error(ctx, err, tkey, tlabel, progressive=()):
+    """Per scene: RMSE and 1 - SSIM against cost, the Pareto front, the default marked, and the progressive mode's
+    curve (error against cost at increasing time budgets); returns the file names."""
     plt = plt_module()
     out = []
     for scene in dict.fromkeys(r["scene"] for r in err):
@@ -310,6 +311,10 @@ def error(ctx, err, tkey, tlabel):
                 a.annotate("d%d t%.0f%s" % (r["depth"], r["threshold"] * 255,
                                             "" if r["spp"] == 1 else " %d%s" % (r["spp"], "a" if r["adaptive"] else "")),
                            (pts[i][0] * 1e3, pts[i][1]), fontsize=7, xytext=(4, 3), textcoords="offset points")
+            prog = sorted([r for r in progressive if r["scene"] == scene], key=lambda r: r[tkey])
+            if prog:
+                a.plot([r[tkey] * 1e3 for r in prog], [val(r) for r in prog], "m-o", ms=4, lw=1.2,
+                       label="progressive (TimeBudget)")
             d = [r for r in rows if r["is_default"]]
             if d:
                 a.scatter([d[0][tkey] * 1e3], [val(d[0])], marker="*", s=260, color="gold",
@@ -355,7 +360,7 @@ def estimate(ctx, err):
         a.set_yscale("log")
         a.set_xlim(lo / 2, 1.5)
         a.set_ylim(lo / 2, 1.5)
-        a.set_ylabel("FrameStats::errorEstimateRms")
+        a.set_ylabel("FrameStats::truncation.rms")
     ax[0].set_xlabel("measured: RMS over pixels of max-channel error vs same samples at depth %d, threshold 0" %
                      ctx.cfg["error_ref_depth"])
     ax[1].set_xlabel("measured: RMSE vs the high-quality reference (includes sampling error)")

@@ -1,0 +1,259 @@
+// The frame's error estimate: the truncation bound is never under the measured truncation error at any pixel
+// (stiff scenes: facing mirrors, nested glass, a light inside glass; and the classic scene), over depth caps and
+// thresholds; the sampling estimate's coverage against a many-sample reference; the summaries and error images.
+#include "renderer.h"
+#include "stiff_scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+
+using namespace whitted;
+
+namespace {
+
+struct NamedScene {
+  const char* name;
+  std::function<void(Scene&, CameraSpec&)> build;
+};
+
+const NamedScene kScenes[] = {{"mirrors", buildFacingMirrorsScene},
+                              {"nested-glass", buildNestedGlassScene},
+                              {"light-in-glass", buildLightInGlassScene},
+                              {"classic", [](Scene& s, CameraSpec& c) { buildClassicScene(s, c); }}};
+
+// Largest channel difference of the clamped colours (what the estimates are stated in)
+float pixelDifference(const Color4& a, const Color4& b) {
+  float d = 0.0f;
+  for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(std::clamp(a[c], 0.0f, 1.0f) - std::clamp(b[c], 0.0f, 1.0f)));
+  return d;
+}
+
+}  // namespace
+
+// At every pixel, for every depth cap and threshold: the bound >= |render - reference|, where the reference has the
+// same samples, threshold 0 and depth 16 (the truncation reference depth: in the nested-glass scene kr + kt = 1 and
+// the series does not converge). The largest measured error is asserted to be large, so replacing the bound by any
+// constant below it fails; the RMS ratio bound / measured is printed (tightness).
+TEST(ErrorEstimate, TruncationBoundNeverUnderMeasuredOnStiffScenes) {
+  const int w = 64, h = 48;
+  for (const NamedScene& ns : kScenes) {
+    Scene s;
+    CameraSpec cs;
+    ns.build(s, cs);
+    s.commit();
+    const Camera cam = cs.make(double(w) / h, s.bounds());
+    RenderSettings ref;
+    ref.integrator.maxDepth = 16;
+    ref.integrator.contributionThreshold = 0.0f;
+    FrameBuffer refFb;
+    render(s, cam, ref, w, h, refFb);
+    float largest = 0.0f;
+    int checked = 0;
+    for (int depth : {0, 1, 2, 3, 5, 8})
+      for (float thr : {0.0f, 1.0f / 255, 0.05f, 0.2f}) {
+        RenderSettings rs;
+        rs.integrator.maxDepth = depth;
+        rs.integrator.contributionThreshold = thr;
+        FrameBuffer fb;
+        const FrameStats fs = render(s, cam, rs, w, h, fb);
+        double measured2 = 0.0;
+        int under = 0;
+        for (std::size_t i = 0; i < fb.color.size(); ++i) {
+          const float d = pixelDifference(refFb.color[i], fb.color[i]);
+          measured2 += double(d) * d;
+          largest = std::max(largest, d);
+          if (fb.truncation[i] + 1e-5f < d) ++under;
+        }
+        EXPECT_EQ(under, 0) << ns.name << " depth " << depth << " threshold " << thr;
+        const double measuredRms = std::sqrt(measured2 / double(fb.color.size()));
+        if (measuredRms > 1e-4) {
+          ++checked;
+          std::printf("%-15s depth %d thr %.4f: measured RMS %.4f, bound RMS %.4f (x%.1f), bound p95 %.4f, max %.4f\n",
+                      ns.name, depth, thr, measuredRms, fs.truncation.rms, fs.truncation.rms / measuredRms,
+                      fs.truncation.p95, fs.truncation.max);
+        }
+      }
+    EXPECT_GT(largest, 0.05f) << ns.name << ": the settings must lose something for the check to mean anything";
+    EXPECT_GT(checked, 4) << ns.name;
+  }
+}
+
+// Light cut from shadow rays: with depth 16 no ray is cut by depth in the light-in-glass scene, and with
+// reflections and refractions off no secondary ray exists, so only the shadow rays' cut (transmittance 0.1225
+// below the threshold 0.2) is left out, and the bound must cover it.
+TEST(ErrorEstimate, ShadowRaysCutByTheThresholdAreBounded) {
+  Scene s;
+  CameraSpec cs;
+  buildLightInGlassScene(s, cs);
+  for (uint32_t m = 0; m < s.materialCount(); ++m) s.material(m).reflectance = Color(0.0f);
+  s.commit();
+  const Camera cam = cs.make(4.0 / 3.0, s.bounds());
+  RenderSettings rs;
+  rs.integrator.refractions = false;
+  rs.integrator.maxDepth = 0;
+  rs.integrator.contributionThreshold = 0.0f;
+  FrameBuffer ref, cut;
+  render(s, cam, rs, 48, 36, ref);
+  rs.integrator.contributionThreshold = 0.2f;
+  render(s, cam, rs, 48, 36, cut);
+  float largest = 0.0f;
+  std::size_t at = 0;
+  for (std::size_t i = 0; i < ref.color.size(); ++i) {
+    const float d = pixelDifference(ref.color[i], cut.color[i]);
+    if (d > largest) largest = d, at = i;
+    EXPECT_GE(cut.truncation[i] + 1e-5f, d) << i;
+  }
+  // maxDepth 0 also cuts the straight-through transmitted rays (bounded in both renders): where the threshold
+  // lost most, that part alone would not cover the loss, so the shadow part of the bound is what holds the check
+  EXPECT_GT(largest, ref.truncation[at]);
+  EXPECT_GT(largest, 0.02f);  // the floor lit through both boxes really loses light
+}
+
+// Images do not depend on the estimates, which are the same for any thread count.
+TEST(ErrorEstimate, EstimatesAreSideDataAndDeterministic) {
+  Scene s;
+  CameraSpec cs;
+  buildNestedGlassScene(s, cs);
+  s.commit();
+  const Camera cam = cs.make(4.0 / 3.0, s.bounds());
+  RenderSettings rs;
+  rs.samplesPerPixel = 4;
+  rs.threads = 1;
+  FrameBuffer a, b, c;
+  const FrameStats fa = render(s, cam, rs, 40, 30, a);
+  rs.errorEstimates = false;
+  render(s, cam, rs, 40, 30, b);
+  rs.errorEstimates = true;
+  rs.threads = 3;
+  const FrameStats fc = render(s, cam, rs, 40, 30, c);
+  EXPECT_EQ(0, std::memcmp(a.color.data(), b.color.data(), a.color.size() * sizeof(Color4)));
+  EXPECT_EQ(a.truncation, c.truncation);
+  EXPECT_EQ(a.sampling, c.sampling);
+  EXPECT_EQ(fa.sampling.rms, fc.sampling.rms);
+  EXPECT_GT(fa.sampling.max, 0.0);
+  EXPECT_GE(fa.sampling.max, fa.sampling.p95);
+  EXPECT_GE(fa.sampling.p95, 0.0);
+  EXPECT_EQ(fa.truncation.rms > 0.0, true);
+}
+
+// The sampling estimate against the truth, a 256-sample render with the same depth and threshold: the share of
+// pixels whose true error is within the estimate, at 4 and 16 samples (2 standard errors, stated ~95%) and at 1
+// sample (the neighbour heuristic), over all pixels and over the pixels with an error of at least 1/255.
+TEST(ErrorEstimate, SamplingEstimateCoverage) {
+  for (const NamedScene& ns : kScenes) {
+    Scene s;
+    CameraSpec cs;
+    ns.build(s, cs);
+    s.commit();
+    const Camera cam = cs.make(4.0 / 3.0, s.bounds());
+    RenderSettings rs;
+    rs.samplesPerPixel = 256;
+    FrameBuffer truth;
+    render(s, cam, rs, 48, 36, truth);
+    for (int spp : {1, 4, 16}) {
+      rs.samplesPerPixel = spp;
+      FrameBuffer fb;
+      render(s, cam, rs, 48, 36, fb);
+      int covered = 0, nonzero = 0, nonzeroCovered = 0;
+      for (std::size_t i = 0; i < fb.color.size(); ++i) {
+        const float d = pixelDifference(truth.color[i], fb.color[i]);
+        const bool ok = d <= fb.sampling[i] + 1.0f / 512;  // half an 8-bit step: the truth is 256 samples
+        covered += ok;
+        if (d >= 1.0f / 255) ++nonzero, nonzeroCovered += ok;
+      }
+      const double coverage = double(covered) / double(fb.color.size());
+      std::printf("%-15s %3d spp: coverage %.3f, over the %d of %zu pixels with an error >= 1/255: %.3f\n", ns.name,
+                  spp, coverage, nonzero, fb.color.size(), nonzero ? double(nonzeroCovered) / nonzero : 1.0);
+      EXPECT_GT(coverage, 0.95) << ns.name << " " << spp;
+      if (nonzero >= 50) EXPECT_GT(double(nonzeroCovered) / nonzero, 0.9) << ns.name << " " << spp;
+    }
+  }
+}
+
+// TargetError: refinement stops as soon as the estimated total RMS is at most the target. A target above the
+// first pass's estimate adds no sample; a reachable one is met with fewer samples than a tighter one, and
+// never with every pixel at the maximum.
+TEST(ErrorEstimate, TargetErrorStopsRefiningWhenMet) {
+  Scene s;
+  CameraSpec cs;
+  buildClassicScene(s, cs);
+  s.commit();
+  const int w = 64, h = 48;
+  const Camera cam = cs.make(double(w) / h, s.bounds());
+  RenderSettings rs;
+  FrameBuffer fb;
+  const FrameStats first = render(s, cam, rs, w, h, fb);
+  ASSERT_GT(first.total.rms, 0.0);
+  ASSERT_LT(first.truncation.rms, 0.4 * first.total.rms);  // the targets below are within the samples' reach
+
+  rs.targetError = first.total.rms * 1.01;  // already met by the first pass
+  FrameStats met = render(s, cam, rs, w, h, fb);
+  EXPECT_TRUE(met.targetMet);
+  EXPECT_EQ(met.refinementRounds, 0);
+  EXPECT_EQ(met.samples, uint64_t(w * h));
+
+  uint64_t previous = 0;
+  for (double factor : {0.7, 0.4}) {
+    rs.targetError = first.total.rms * factor;
+    FrameBuffer out;
+    const FrameStats fs = render(s, cam, rs, w, h, out);
+    EXPECT_TRUE(fs.targetMet) << factor;
+    EXPECT_LE(fs.total.rms, rs.targetError) << factor;
+    EXPECT_GT(fs.refinementRounds, 0) << factor;
+    // Stopped when met: the round before did not meet it (else it would have stopped there)
+    ASSERT_GE(fs.progress.size(), 2u);
+    EXPECT_GT(fs.progress[fs.progress.size() - 2].second, rs.targetError) << factor;
+    EXPECT_GT(fs.samples, previous) << factor;
+    EXPECT_LT(fs.samples, uint64_t(w * h) * uint64_t(rs.maxProgressiveSamples)) << factor;
+    uint64_t perPixel = 0;
+    for (uint16_t n : out.samples) perPixel += n;
+    EXPECT_EQ(perPixel, fs.samples) << factor;  // the per-pixel counts account for every sample
+    previous = fs.samples;
+  }
+}
+
+// TimeBudget: with no target, refinement runs until the budget is spent and stops within one tile's
+// time (plus the final estimate pass, a few ms).
+TEST(ErrorEstimate, TimeBudgetHonouredWithinOneTile) {
+  Scene s;
+  CameraSpec cs;
+  buildClassicScene(s, cs);
+  s.commit();
+  const Camera cam = cs.make(4.0 / 3.0, s.bounds());
+  RenderSettings rs;
+  rs.maxProgressiveSamples = 4096;  // no target: only the budget stops it
+  rs.threads = 2;
+  for (double budget : {0.15, 0.4}) {
+    rs.timeBudget = budget;
+    FrameBuffer fb;
+    const FrameStats fs = render(s, cam, rs, 96, 72, fb);
+    std::printf("budget %.2f s: frame %.3f s, longest tile %.4f s, %d rounds, %llu samples\n", budget,
+                fs.secondsTrace, fs.longestTileSeconds, fs.refinementRounds, (unsigned long long)fs.samples);
+    EXPECT_FALSE(fs.targetMet);
+    EXPECT_GT(fs.refinementRounds, 1);
+    EXPECT_GE(fs.secondsTrace, budget);  // it did use the budget
+    EXPECT_LE(fs.secondsTrace, budget + fs.longestTileSeconds + 0.05);
+  }
+}
+
+// A target below the truncation bound's RMS cannot be reached by samples: refinement does not start.
+TEST(ErrorEstimate, TargetBelowTruncationBoundIsNotChasedWithSamples) {
+  Scene s;
+  CameraSpec cs;
+  buildFacingMirrorsScene(s, cs);
+  s.commit();
+  const Camera cam = cs.make(4.0 / 3.0, s.bounds());
+  RenderSettings rs;
+  rs.integrator.maxDepth = 2;
+  FrameBuffer fb;
+  const FrameStats first = render(s, cam, rs, 48, 36, fb);
+  rs.targetError = 0.5 * first.truncation.rms;
+  const FrameStats fs = render(s, cam, rs, 48, 36, fb);
+  EXPECT_FALSE(fs.targetMet);
+  EXPECT_EQ(fs.refinementRounds, 0);
+  EXPECT_EQ(fs.samples, 48u * 36u);
+}

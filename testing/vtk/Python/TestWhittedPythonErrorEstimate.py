@@ -1,0 +1,160 @@
+#!/usr/bin/env python3
+"""The pass's error estimate as a VTK user sees it (issue 11).
+
+1. GetLastErrorImage: an image of the frame's size with the arrays TruncationError, SamplingError,
+   EstimatedError and Samples, whose RMS / largest values are the statistics' summaries, and whose truncation
+   bound covers the measured difference to a deep (MaxDepth 16, ContributionThreshold 0) render at every pixel of
+   a scene of facing mirrors (kr 0.9).
+2. TargetError: a target above the first pass's estimate adds no sample; a target at 0.6 x the first estimate is
+   met (TargetErrorMet, EstimatedError RMS <= target) with more samples, counted per pixel in Samples.
+3. TimeBudget: without a target the frame refines until the budget and stops within one tile's time.
+4. Interactive frames skip the sampling estimate and never refine; the image is the same with or without a
+   target on the first pass (the estimate is side data).
+"""
+import sys
+import time
+
+import numpy as np
+from vtkmodules.vtkCommonCore import vtkFloatArray
+from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkFiltersSources import vtkPlaneSource, vtkSphereSource
+from vtkmodules.vtkRenderingCore import vtkActor, vtkLight, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from whitted import vtkWhittedPass
+
+failures = []
+
+
+def check(condition, message):
+    print(("ok    " if condition else "FAIL  ") + message)
+    if not condition:
+        failures.append(message)
+
+
+def actor(ren, source, color, kr=None):
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputConnection(source.GetOutputPort())
+    a = vtkActor()
+    a.SetMapper(mapper)
+    a.GetProperty().SetColor(*color)
+    a.GetProperty().SetSpecular(0.3)
+    if kr is not None:
+        a.GetProperty().GetInformation().Set(vtkWhittedPass.REFLECTANCE(), [kr], 1)
+    ren.AddActor(a)
+
+
+def plane(origin, p1, p2):
+    p = vtkPlaneSource()
+    p.SetOrigin(*origin)
+    p.SetPoint1(*p1)
+    p.SetPoint2(*p2)
+    return p
+
+
+ren = vtkRenderer()
+ren.SetBackground(0.2, 0.3, 0.5)
+actor(ren, plane((-0.5, -1, 4), (-0.5, -1, -36), (-0.5, 1, 4)), (0.6, 0.6, 0.6), kr=0.9)   # facing mirrors
+actor(ren, plane((0.5, -1, 4), (0.5, 1, 4), (0.5, -1, -36)), (0.6, 0.6, 0.6), kr=0.9)
+actor(ren, plane((-0.5, -1, 4), (0.5, -1, 4), (-0.5, -1, -36)), (0.8, 0.8, 0.8))
+ball = vtkSphereSource()
+ball.SetCenter(0.1, -0.6, -3)
+ball.SetRadius(0.3)
+ball.SetThetaResolution(32)
+ball.SetPhiResolution(16)
+actor(ren, ball, (0.9, 0.2, 0.1))
+light = vtkLight()
+light.SetPositional(True)
+light.SetPosition(0, 0.8, 2)
+light.SetConeAngle(180)
+ren.AddLight(light)
+cam = ren.GetActiveCamera()
+cam.SetPosition(0, 0, 3.5)
+cam.SetFocalPoint(0.35, -0.1, 0)
+cam.SetViewAngle(50)
+ren.ResetCameraClippingRange()
+
+win = vtkRenderWindow()
+win.SetOffScreenRendering(1)
+win.SetMultiSamples(0)
+win.SetSize(120, 90)
+win.AddRenderer(ren)
+p = vtkWhittedPass()
+ren.SetPass(p)
+
+
+def frame():
+    win.Render()
+    rgba = vtkFloatArray()
+    p.GetLastFrame(rgba, None)
+    image = vtkImageData()
+    p.GetLastErrorImage(image)
+    return vtk_to_numpy(rgba).reshape(-1, 4), image, p.GetLastFrameStatistics()
+
+
+def array(image, name):
+    return vtk_to_numpy(image.GetPointData().GetArray(name)).astype(float)
+
+
+# 1. The error image against a deep reference
+p.SetMaxDepth(16)
+p.SetContributionThreshold(0.0)
+reference, _, _ = frame()
+p.SetMaxDepth(3)
+p.SetContributionThreshold(0.05)
+cheap, image, st = frame()
+dims = image.GetDimensions()
+check(dims[:2] == tuple(st.GetSize()) and dims[2] == 1, "error image is %s for a frame of %s" % (dims, st.GetSize()))
+names = [image.GetPointData().GetArrayName(i) for i in range(image.GetPointData().GetNumberOfArrays())]
+check(names == ["TruncationError", "SamplingError", "EstimatedError", "Samples"], "arrays %s" % names)
+trunc = array(image, "TruncationError")
+measured = np.abs(np.clip(reference[:, :3], 0, 1) - np.clip(cheap[:, :3], 0, 1)).max(axis=1)
+check(measured.max() > 0.05, "depth 3 / threshold 0.05 lose something: largest pixel %.3f" % measured.max())
+under = int(np.sum(trunc + 1e-5 < measured))
+check(under == 0, "truncation bound under the measured error at %d pixels (bound RMS %.4f, measured RMS %.4f)"
+      % (under, np.sqrt(np.mean(trunc ** 2)), np.sqrt(np.mean(measured ** 2))))
+rms, p95, mx = st.GetTruncationError()
+check(abs(rms - np.sqrt(np.mean(trunc ** 2))) < 1e-6 and abs(mx - trunc.max()) < 1e-6 and rms <= p95 + 1e-3 <= mx + 1e-3,
+      "statistics TruncationError %.4f %.4f %.4f match the image" % (rms, p95, mx))
+est = array(image, "EstimatedError")
+check(abs(st.GetEstimatedError()[0] - np.sqrt(np.mean(est ** 2))) < 1e-6, "EstimatedError RMS matches the image")
+check(st.GetSamplingError()[0] > 0, "1-spp sampling estimate %.4f > 0" % st.GetSamplingError()[0])
+report = p.GetLastFrameReport()
+check("truncation RMS" in report and "sampling RMS" in report, "frame report states both parts")
+
+# 2. TargetError (deep enough that the truncation bound leaves the target to the samples)
+p.SetMaxDepth(24)
+p.SetContributionThreshold(0.0)
+first_image, _, st = frame()
+first = st.GetEstimatedError()[0]
+pixels = st.GetSize()[0] * st.GetSize()[1]
+check(st.GetNumberOfSamples() == pixels and st.GetRefinementRounds() == 0, "no target: one sample per pixel")
+p.SetTargetError(first * 1.01)
+same_image, _, st = frame()
+check(st.GetTargetErrorMet() and st.GetNumberOfSamples() == pixels and st.GetRefinementRounds() == 0,
+      "target above the first estimate: met, %d samples, no round" % st.GetNumberOfSamples())
+check(np.array_equal(first_image, same_image), "a target does not change the first pass's image")
+p.SetTargetError(first * 0.6)
+_, image, st = frame()
+check(st.GetTargetErrorMet() and st.GetEstimatedError()[0] <= first * 0.6,
+      "target 0.6 x %.4f met: %.4f after %d rounds" % (first, st.GetEstimatedError()[0], st.GetRefinementRounds()))
+samples = array(image, "Samples")
+check(st.GetNumberOfSamples() > pixels and samples.sum() == st.GetNumberOfSamples() and samples.max() > 1,
+      "refined: %d samples, %d on the most refined pixel" % (st.GetNumberOfSamples(), samples.max()))
+
+# 3. TimeBudget (no target: only the budget stops the refinement)
+p.SetTargetError(0.0)
+p.SetTimeBudget(0.25)
+_, _, st = frame()
+check(not st.GetTargetErrorMet() and st.GetRefinementRounds() > 1, "no target: %d rounds" % st.GetRefinementRounds())
+check(0.25 <= st.GetTraceTime() <= 0.25 + 0.15, "budget 0.25 s: traced %.3f s" % st.GetTraceTime())
+
+# 4. Interactive frames
+p.SetInteractive(True)
+_, image, st = frame()
+check(st.GetRefinementRounds() == 0 and st.GetSamplingError()[0] == 0.0 and st.GetNumberOfSamples() == pixels,
+      "interactive: no refinement, no sampling estimate")
+p.SetInteractive(False)
+
+print("%d failures" % len(failures))
+sys.exit(1 if failures else 0)
