@@ -88,10 +88,12 @@ void Integrator::buildRemainingBounds() {
   float lightSum = 0.0f;
   for (const Light& l : scene_.lights()) lightSum += l.intensity * maxComponent(l.color);
 
-  // Per material, a hit returns at most a + k x (what its secondary rays return): a the local term (opacity x
-  // the local colour, which radiance() clamps to [0, 1]; geometry colours and texels are <= 1), k the largest
+  // Per material, a hit returns at most a + k x (what its secondary rays return): a the local term, k the largest
   // kr + kt (Fresnel and total internal reflection move weight between them, never add any). Every material is
-  // counted, visible or not: a superset only loosens the bound.
+  // counted, visible or not: a superset only loosens the bound. The local term is opacity x the clamped sum of
+  // the body colour at its share (bodyWeight / opacity, the body clamped to [0, 1]) and the highlight, so at most
+  // min(opacity, bodyWeight x min(1, body) + opacity x min(1, highlight)): a hit's opacity (vertex colour and
+  // texel alpha) is at most the material's, and so is its body weight; geometry colours and texels are <= 1.
   struct Term {
     float a, k;
   };
@@ -103,8 +105,11 @@ void Integrator::buildRemainingBounds() {
     const float amb = m.ambient * std::max(1.0f, maxComponent(m.ambientColor));
     const float dif = m.diffuse * std::max(1.0f, maxComponent(m.diffuseColor));
     const float spe = m.specular * maxComponent(m.specularColor);
-    const float local = m.lighting ? amb + lightSum * (dif + spe) : amb + dif;
-    const Term t{m.opacity * std::min(1.0f, local), maxComponent(m.reflectance + m.transmittance)};
+    const float body = m.lighting ? amb + lightSum * dif : amb + dif;
+    const float highlight = m.lighting ? lightSum * spe : 0.0f;
+    const float a = std::min(m.opacity, bodyWeight(m, m.opacity) * std::min(1.0f, body) +
+                                            m.opacity * std::min(1.0f, highlight));
+    const Term t{a, maxComponent(m.reflectance + m.transmittance)};
     terms.push_back(t);
     aMax = std::max(aMax, t.a);
     // The series B = max(escape, a + k B) has a finite fixed point unless a surface adds light (a > 0) without
