@@ -3,6 +3,7 @@
 #pragma once
 
 #include "math.h"
+#include "memory.h"
 
 #include <emmintrin.h>  // SSE2: part of every x86-64 CPU (Debian 12's baseline)
 
@@ -32,6 +33,8 @@ struct alignas(64) BvhWideNode {  // two whole cache lines
   uint32_t first[4];
   uint32_t count[4];
 };
+/// A tree's wide nodes (on huge pages when large: memory.h).
+using BvhWideNodes = LargeVector<BvhWideNode>;
 
 /// Build algorithm: the binned SAH build gives the fastest traversal; the Morton (LBVH) build takes a fraction of
 /// its time for a tree that traces somewhat slower (first frames, time steps, geometry that changes every frame).
@@ -148,7 +151,7 @@ class Bvh {
 
   bool empty() const { return wide_.empty(); }
   /// The 4-wide traversal nodes; node 0 is the root, and every child node has a larger index than its parent.
-  const std::vector<BvhWideNode>& nodes() const { return wide_; }
+  const BvhWideNodes& nodes() const { return wide_; }
   /// Primitive order of the leaves: leaf slot -> original primitive index.
   const std::vector<uint32_t>& primIndices() const { return primIndices_; }
   Bounds3 bounds() const { return bounds_; }
@@ -281,7 +284,7 @@ class Bvh {
     }
   }
 
-  std::vector<BvhWideNode> wide_;
+  BvhWideNodes wide_;
   Vec3 anchor_{0.0};  ///< The first finite centroid; node boxes are stored relative to it.
   Bounds3 bounds_;
   std::vector<uint32_t> primIndices_;

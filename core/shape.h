@@ -63,8 +63,8 @@ inline double radiusAt(const std::vector<double>& radii, std::size_t i) {
 }
 
 /// Same size and same bytes (NaN compares equal to itself, -0 differs from 0: conservative for "unchanged").
-template <typename T>
-bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
+template <typename T, typename A>
+bool sameBits(const std::vector<T, A>& a, const std::vector<T, A>& b) {
   static_assert(std::is_trivially_copyable_v<T>);
   return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }

@@ -5,14 +5,15 @@
 // ray parameter.
 #pragma once
 
+#include "memory.h"
 #include "shape.h"
 
 namespace whitted {
 
 /// Indexed triangle mesh in object space.
 struct TriangleMesh {
-  std::vector<Vec3> positions;         ///< Vertex positions (object space, double).
-  std::vector<glm::uvec3> triangles;   ///< Vertex indices per triangle.
+  LargeVector<Vec3> positions;         ///< Vertex positions (object space, double; huge pages: memory.h).
+  LargeVector<glm::uvec3> triangles;   ///< Vertex indices per triangle (huge pages: memory.h).
   std::vector<Vec3f> normals;          ///< Optional per-vertex normals (empty = use facet normals).
   std::vector<Color4> vertexColors;    ///< Optional per-vertex RGBA in [0,1].
   std::vector<Color4> triangleColors;  ///< Optional per-triangle RGBA in [0,1] (wins over vertexColors).
@@ -52,8 +53,8 @@ struct TriangleShape {
   static constexpr bool kLeafOrdered = true;
   static constexpr bool kCrossedOnce = true;  ///< A ray crosses a triangle at most once.
   /// The per-primitive array kept in BVH leaf order.
-  static std::vector<glm::uvec3>& leafOrdered(TriangleMesh& m) { return m.triangles; }
-  static const std::vector<glm::uvec3>& leafOrdered(const TriangleMesh& m) { return m.triangles; }
+  static LargeVector<glm::uvec3>& leafOrdered(TriangleMesh& m) { return m.triangles; }
+  static const LargeVector<glm::uvec3>& leafOrdered(const TriangleMesh& m) { return m.triangles; }
 
   /// Number of primitives, valid or not.
   static std::size_t count(const TriangleMesh& m) { return m.triangles.size(); }

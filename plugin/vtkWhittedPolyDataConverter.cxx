@@ -159,7 +159,7 @@ struct CellArrays
 // Cells using ids that name no point are skipped and counted.
 struct TriangleList
 {
-  std::vector<glm::uvec3> Tris;
+  whitted::LargeVector<glm::uvec3> Tris;
   std::vector<vtkIdType> Cells;
 };
 
@@ -679,7 +679,7 @@ void vtkWhittedPolyDataConverter::Recentre(Primitives& out)
 {
   // Bounds of the finite points
   whitted::Bounds3 b;
-  auto add = [&b](const std::vector<Vec3>& ps)
+  auto add = [&b](const auto& ps)
   {
     for (const Vec3& p : ps)
     {
@@ -703,7 +703,7 @@ void vtkWhittedPolyDataConverter::Recentre(Primitives& out)
     return;
   }
   const Vec3 origin = b.center();
-  auto shift = [&origin](std::vector<Vec3>& ps)
+  auto shift = [&origin](auto& ps)
   {
     for (Vec3& p : ps)
     {
