@@ -5,7 +5,7 @@ namespace whitted {
 namespace {
 
 template <typename Shape>
-std::size_t rebuildShape(Object& o, typename Shape::Geometry& g) {
+std::size_t rebuildShape(Object& o, typename Shape::Geometry& g, BvhBuildQuality quality) {
   Shape::sanitize(g);
 
   // Boxes of valid primitives; non-finite and degenerate ones are left out of the BVH
@@ -26,7 +26,7 @@ std::size_t rebuildShape(Object& o, typename Shape::Geometry& g) {
     o.bounds.extend(box);
   }
   BvhBuildOptions opt;
-  opt.quality = o.replaced ? BvhBuildQuality::Fast : BvhBuildQuality::Sah;
+  opt.quality = quality;
   o.bvh.build(boxes, centroids, opt);
 
   // Leaf order of every primitive (only needed when some are left out: otherwise it is the BVH's own order)
@@ -86,8 +86,8 @@ void Object::markForRebuild() {
   dirty = replaced = true;
 }
 
-std::size_t Object::rebuild() {
-  return visitShape(*this, [&](auto shape, auto& g) { return rebuildShape<decltype(shape)>(*this, g); });
+std::size_t Object::rebuild(BvhBuildQuality quality) {
+  return visitShape(*this, [&](auto shape, auto& g) { return rebuildShape<decltype(shape)>(*this, g, quality); });
 }
 
 }  // namespace whitted

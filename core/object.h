@@ -30,9 +30,9 @@ struct Object {
   /// Leaf slot -> primitive as given (see primOrder). Valid after a rebuild.
   const uint32_t* leafPrims() const { return primOrder.empty() ? bvh.primIndices().data() : primOrder.data(); }
 
-  /// Clamps the geometry's colours, builds the BVH over the valid primitives (non-finite and degenerate ones are
+  /// Clamps the geometry's colours, builds the BVH (with the given builder) over the valid primitives (non-finite and degenerate ones are
   /// left out) and puts leaf-ordered arrays in leaf order. Returns the number of invalid primitives.
-  std::size_t rebuild();
+  std::size_t rebuild(BvhBuildQuality quality);
   /// True if g (of shape type G) has bit-for-bit the geometry this committed object was built from (see
   /// Shape::sameGeometry; leaf-ordered arrays are compared through the leaf order). Cost: one pass over it.
   template <typename G>

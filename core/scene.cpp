@@ -179,10 +179,11 @@ void Scene::buildObjects(CommitStats& st) {
       }
       o.markForRebuild();
     }
-    // New or replaced geometry: rebuilt (fast builder when replaced)
+    // New or replaced geometry: rebuilt (replaced: with the replaced-geometry builder, fast by default)
     if (o.alive && o.dirty) {
-      st.objectsFastBuilt += o.replaced;
-      st.invalidPrimitives += o.rebuild();
+      const bool fast = o.replaced && replacedQuality_ == BvhBuildQuality::Fast;
+      st.objectsFastBuilt += fast;
+      st.invalidPrimitives += o.rebuild(fast ? BvhBuildQuality::Fast : BvhBuildQuality::Sah);
       ++st.objectsRebuilt;
       topDirty_ = true;
     }

@@ -133,7 +133,9 @@ def build(ctx, build):
     import numpy as np
     scenes = list(dict.fromkeys(r["scene"] for r in build))
     threads = sorted({r["threads"] for r in build})
-    variants = [("whitted", "Scene::commit")] + [("embree", q) for q in ("low", "medium", "high")]
+    variants = [("whitted", "Scene::commit SAH"), ("whitted", "Scene::commit fast")] + [
+        ("embree", q) for q in ("low", "medium", "high")]
+    ours_style = {"Scene::commit SAH": ("k", "Whitted SAH"), "Scene::commit fast": ("0.45", "Whitted fast")}
     fig, ax = plt.subplots(1, 2, figsize=(13, 4.6))
     x = np.arange(len(scenes))
     bars = [(eng, var, t) for t in threads for eng, var in variants]
@@ -145,15 +147,15 @@ def build(ctx, build):
 
     for i, (eng, var, t) in enumerate(bars):
         sp = [(pick(s, eng, var, t) or {}).get("mprims_per_s", 0) for s in scenes]
-        label = "%s, %d thr" % ("Whitted" if eng == "whitted" else "Embree " + var, t)
-        color = "k" if eng == "whitted" else "C%d" % ["low", "medium", "high"].index(var)
+        label = "%s, %d thr" % (ours_style[var][1] if eng == "whitted" else "Embree " + var, t)
+        color = ours_style[var][0] if eng == "whitted" else "C%d" % ["low", "medium", "high"].index(var)
         ax[0].bar(x + (i - len(bars) / 2 + 0.5) * width, sp, width, color=color,
                   alpha=1.0 if t == threads[-1] else 0.5, label=label)
     for i, (eng, var) in enumerate(variants):
         mem = [(pick(s, eng, var, threads[-1]) or {}).get("bytes_per_prim", 0) for s in scenes]
-        ax[1].bar(x + (i - len(variants) / 2 + 0.5) * 0.2, mem, 0.2,
-                  color="k" if eng == "whitted" else "C%d" % ["low", "medium", "high"].index(var),
-                  label="Whitted" if eng == "whitted" else "Embree " + var)
+        ax[1].bar(x + (i - len(variants) / 2 + 0.5) * 0.16, mem, 0.16,
+                  color=ours_style[var][0] if eng == "whitted" else "C%d" % ["low", "medium", "high"].index(var),
+                  label=ours_style[var][1] if eng == "whitted" else "Embree " + var)
     ax[0].set_yscale("log")
     plain_log_ticks(ax[0], "y")
     ax[0].set_ylabel("build speed, Mprims/s (log)")
@@ -182,10 +184,14 @@ def scaling(ctx, frames, build):
         if all(isinstance(r.get("cpu_seconds_median"), float) for r in tri):
             ax[0].loglog(n, [r["cpu_seconds_median"] * 1e3 for r in tri], "o:", color="C0", alpha=0.6,
                          label="Whitted trace, CPU time (all threads)")
-        wb = {r["primitives"]: r["seconds_median"] for r in build if r["variant"] == "Scene::commit" and
-              r["threads"] == ctx.threads}
-        ax[0].loglog(n, [wb.get(r["primitives"], r["commit_seconds"]) * 1e3 for r in tri], "s-",
-                     label="Whitted BVH build (commit), %d thr" % ctx.threads)
+        for variant, name in [("Scene::commit SAH", "SAH"), ("Scene::commit fast", "fast")]:
+            wb = {r["primitives"]: r["seconds_median"] for r in build if r["variant"] == variant and
+                  r["threads"] == ctx.threads}
+            if wb:
+                pts = [(r["primitives"], wb[r["primitives"]] * 1e3) for r in tri if r["primitives"] in wb]
+                if pts:
+                    ax[0].loglog(*zip(*pts), "s-", label="Whitted BVH build (commit, %s), %d thr" % (
+                        name, ctx.threads))
         em = {r["primitives"]: r["seconds_median"] * 1e3 for r in build if r["engine"] == "embree" and
               r["variant"] == "medium" and r["threads"] == ctx.threads}
         pts = [(k, em[k]) for k in n if k in em]

@@ -2,6 +2,7 @@
 from .. import plots
 from ..markdown import commands_block, md_table
 from ..runner import available_scenes, drop_tags, read_csv
+from . import build as build_section
 
 
 def run(ctx):
@@ -30,7 +31,7 @@ def report(ctx, head):
     frames = [r for r in read_csv(ctx.path("frames.csv")) if r["tag"].startswith("scale")]
     if not frames:
         return []
-    plots.scaling(ctx, frames, read_csv(ctx.path("build.csv")))
+    plots.scaling(ctx, frames, build_section.read_build(ctx))
     tab = [[r["tag"][6:], r["scene"], r["primitives"], "%dx%d" % (r["width"], r["height"]), r["threads"],
             "%.1f" % (r["commit_seconds"] * 1e3), "%.1f" % (r["seconds_median"] * 1e3), "%.2f" % r["mrays"]]
            for r in frames]
