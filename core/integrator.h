@@ -31,6 +31,13 @@ struct IntegratorSettings {
   /// covers what a render at max(this, maxDepth) and threshold 0 would add. Where the series converges the bound
   /// holds against any depth (the infinite-depth image). Default 16.
   int truncationReferenceDepth = 16;
+  /// Pixel footprint for edges of a given width in pixels (Material::edgeWidth): one pixel spans
+  /// pixelSize + pixelAngle x L world units across a ray at path length L from the camera (summed over the
+  /// path's segments, so exact through plane mirrors, approximate after curved mirrors and refraction).
+  /// Perspective camera: pixelAngle = the angle of one pixel at the image centre (radians), pixelSize 0;
+  /// parallel: pixelSize = one pixel's world size, pixelAngle 0. Default 0: no edges are drawn.
+  double pixelSize = 0.0;
+  double pixelAngle = 0.0;
 };
 
 /// Ray counts of one frame (summed over threads).
@@ -117,6 +124,7 @@ class Integrator {
     float truncation = 0.0f;  ///< Radiance bound of what was left out (see Sample::truncationBound).
     float escaped = 0.0f;     ///< Weight (mean over RGB) of straight escapes, times 1 - backgroundAlpha.
     Color screenBackground{0.0f};  ///< What straight escapes see (see Sample).
+    double pathLength = 0.0;       ///< Length of the path up to the current ray's origin (edge footprints).
   };
   using Kernel = Color (Integrator::*)(const Ray&, int, Color, bool, RayStats&, PathState&, double*, Vec3*) const;
   const Scene& scene_;
