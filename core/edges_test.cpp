@@ -27,11 +27,13 @@ TriangleMesh square(bool markBoundaryOnly) {
   return m;
 }
 
-Color traceDown(const Scene& s, const IntegratorSettings& is, double x, double y) {
+// A camera ray from the eye at (x, y, 10) down the z axis, starting at height z0 (a near plane below the eye)
+Color traceDown(const Scene& s, IntegratorSettings is, double x, double y, double z0 = 10.0) {
+  is.eye = Vec3(x, y, 10.0);
   Integrator integ(s, is, Vec3(0, 1, 0));
   RayStats st;
   Ray r;
-  r.origin = Vec3(x, y, 10.0);
+  r.origin = Vec3(x, y, z0);
   r.dir = Vec3(0, 0, -1);
   return integ.trace(r, st, Color(0.0f)).color;
 }
@@ -67,6 +69,9 @@ TEST(Edges, DrawnWithinHalfTheirWidthInPixels) {
   EXPECT_EQ(traceDown(s, is, 0.985, 0.5), Color(1, 0, 0));
   // The triangulation's diagonal is not drawn
   EXPECT_EQ(traceDown(s, is, 0.5, 0.505), Color(0, 0, 1));
+  // The footprint grows from the eye, not from where a camera ray starts (its near plane)
+  EXPECT_EQ(traceDown(s, is, 0.5, 0.015, 2.0), Color(1, 0, 0));
+  EXPECT_EQ(traceDown(s, is, 0.5, 0.025, 2.0), Color(0, 0, 1));
   // Twice as far, twice as wide in world units
   is.pixelAngle = 0.002;
   EXPECT_EQ(traceDown(s, is, 0.5, 0.035), Color(1, 0, 0));
@@ -102,8 +107,9 @@ TEST(Edges, SeenInAMirrorAtThePathLength) {
   s.commit();
   IntegratorSettings is;
   is.pixelAngle = 0.001;
-  Integrator integ(s, is, Vec3(0, 1, 0));
   auto up = [&](double y) {
+    is.eye = Vec3(0.5, y, 5.0);
+    Integrator integ(s, is, Vec3(0, 1, 0));
     RayStats st;
     Ray r;
     r.origin = Vec3(0.5, y, 5.0);
@@ -136,4 +142,37 @@ TEST(Edges, BackMaterialOnBackFaces) {
   bad.addInstance(bad.addMesh(square(false)), Mat4(1.0), bad.addMaterial(m));
   EXPECT_EQ(bad.commit().invalidMaterials, 1u);
   EXPECT_EQ(bad.material(0).backMaterial, -1);
+}
+
+TEST(Edges, EveryQuadEdgeOfAGrid) {
+  // An 8 x 8 grid of unit quads (two triangles each, diagonals not drawn): enough triangles for a BVH of several
+  // leaves, so the hit triangle's slot (leaf order) and index (original order) differ
+  const int n = 8;
+  TriangleMesh m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) m.positions.push_back(Vec3(i, j, 0));
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const uint32_t a = uint32_t(j * (n + 1) + i), b = a + 1, c = a + uint32_t(n) + 2, d = a + uint32_t(n) + 1;
+      m.triangles.push_back(glm::uvec3(a, b, c));
+      m.edgeFlags.push_back(0b011);
+      m.triangles.push_back(glm::uvec3(a, c, d));
+      m.edgeFlags.push_back(0b110);
+    }
+  Scene s;
+  Material mat = unlit(Color(0, 0, 1));
+  mat.edgeWidth = 2.0f;
+  mat.edgeColor = Color(1, 0, 0);
+  s.addInstance(s.addMesh(m), Mat4(1.0), s.addMaterial(mat));
+  s.commit();
+  IntegratorSettings is;
+  is.pixelAngle = 0.005;  // 0.05 per pixel at distance 10: edges 0.05 on each side
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      EXPECT_EQ(traceDown(s, is, i + 0.5, j + 0.03), Color(1, 0, 0)) << i << " " << j;  // bottom edge
+      EXPECT_EQ(traceDown(s, is, i + 0.03, j + 0.5), Color(1, 0, 0)) << i << " " << j;  // left edge
+      EXPECT_EQ(traceDown(s, is, i + 0.97, j + 0.4), Color(1, 0, 0)) << i << " " << j;  // right edge
+      EXPECT_EQ(traceDown(s, is, i + 0.5, j + 0.5), Color(0, 0, 1)) << i << " " << j;   // centre, diagonal
+      EXPECT_EQ(traceDown(s, is, i + 0.3, j + 0.6), Color(0, 0, 1)) << i << " " << j;
+    }
 }

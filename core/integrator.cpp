@@ -47,6 +47,8 @@ Sample Integrator::trace(const Ray& ray, RayStats& stats, const Color& screenBac
   Vec3 first(0.0);
   PathState ps;
   ps.screenBackground = screenBackground;
+  // Edge footprints grow with the distance from the eye; camera rays may start on the near plane
+  if (s_.pixelAngle > 0.0) ps.pathLength = glm::length(ray.origin - s_.eye);
   out.color = (this->*kernel_)(ray, 0, Color(1.0f), true, stats, ps, &tHit, &first);
   out.hit = std::isfinite(tHit);
   out.firstHit = first;

@@ -25,7 +25,7 @@ struct IntegratorSettings {
   /// VTK computes the specular view vector from the camera position even for parallel projection; set this (and
   /// eye) to do the same for camera rays. Default off: the view vector is minus the ray direction.
   bool viewFromEye = false;
-  Vec3 eye{0.0};  ///< Camera position, used when viewFromEye is set.
+  Vec3 eye{0.0};  ///< Camera position, used when viewFromEye is set and for edge footprints (pixelAngle).
   /// Depth of the reference the truncation bound is stated against when the untraced series cannot converge
   /// (some surface has kr + kt = 1 and a local colour, so every further bounce may add light): the bound then
   /// covers what a render at max(this, maxDepth) and threshold 0 would add. Where the series converges the bound
@@ -35,7 +35,8 @@ struct IntegratorSettings {
   /// pixelSize + pixelAngle x L world units across a ray at path length L from the camera (summed over the
   /// path's segments, so exact through plane mirrors, approximate after curved mirrors and refraction).
   /// Perspective camera: pixelAngle = the angle of one pixel at the image centre (radians), pixelSize 0;
-  /// parallel: pixelSize = one pixel's world size, pixelAngle 0. Default 0: no edges are drawn.
+  /// parallel: pixelSize = one pixel's world size, pixelAngle 0. Default 0: no edges are drawn. With pixelAngle,
+  /// path lengths start at eye (camera rays may start on the near plane).
   double pixelSize = 0.0;
   double pixelAngle = 0.0;
 };
