@@ -1,6 +1,7 @@
 #include "integrator.h"
 
 #include <algorithm>
+#include <optional>
 
 namespace whitted {
 
@@ -238,12 +239,12 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
   const Material* mp = &scene_.material(sp.material);
   if (backFace && mp->backMaterial >= 0) mp = &scene_.material(uint32_t(mp->backMaterial));
   const double pathHere = scene_.features().edges ? ps.pathLength + hit.t * glm::length(ray.dir) : 0.0;
-  Material edge;
+  std::optional<Material> edge;  // constructed only on edge pixels
   if (scene_.features().edges && mp->edgeWidth > 0.0f) {
     const double halfWidth = 0.5 * double(mp->edgeWidth) * (s_.pixelSize + s_.pixelAngle * pathHere);
     if (halfWidth > 0.0 && scene_.edgeDistance(ray, hit, sp.p) <= halfWidth) {
       edge = edgeMaterial(*mp);
-      mp = &edge;
+      mp = &*edge;
       nf = v;
     }
   }

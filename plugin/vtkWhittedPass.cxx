@@ -50,7 +50,7 @@ double SecondsSince(std::chrono::steady_clock::time_point t)
 
 // One viewport pixel's footprint, for edge widths in pixels (IntegratorSettings::pixelAngle and
 // pixelSize): the view's half height is 1 / P[1][1] of VTK's projection matrix, at unit distance
-// (perspective) or in world units (parallel), over half the viewport's height in pixels.
+// (perspective) or in world units (parallel), over half the traced image's height in pixels.
 void SetPixelFootprint(
   whitted::IntegratorSettings& is, vtkCamera* cam, double aspect, int viewportHeight)
 {
@@ -301,7 +301,8 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
       cam->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1)));
     whitted::RenderSettings settings =
       vtkWhittedPassInternals::FrameSettings(this, cam, r.Conversion.HeadlightShading);
-    SetPixelFootprint(settings.integrator, cam, ren->GetTiledAspectRatio(), viewport[3]);
+    // Edge widths in traced pixels: interactive frames (fewer, larger pixels) keep their edges
+    SetPixelFootprint(settings.integrator, cam, ren->GetTiledAspectRatio(), traceHeight);
     r.Trace = in->Trace(
       this, win, converter->GetScene(), camera, settings, traceWidth, traceHeight);
   }
