@@ -6,8 +6,9 @@
   within a pixel of an edge pixel of the other (at least 90% and 95%: VTK's own lines z-fight with the surface in
   places; no diagonals, no missing edges), and the traced
   edges have the width VTK draws (edge pixel counts within 25%; 3 px edges about 3x the 1 px ones).
-- Regression image (TestWhittedPythonEdges.png): edged sphere and plane with shadows, seen directly and in a
-  mirror, with a translucent edged cube; the edges keep their pixel width in the mirror.
+- Regression image (TestWhittedPythonEdges.png): edged sphere and floor with shadows, seen directly and in a
+  mirror, with a translucent edged cube (edges keep their pixel width in the mirror), a PBR copper sphere (a
+  coloured mirror) and a bowl whose inside shows its BackfaceProperty.
 - BackfaceProperty: an open hemisphere whose inside is green agrees with VTK's image of it.
 - PBR: a metallic, smooth quad in front of an unlit white wall shows its base colour as a mirror, exactly as
   REFLECTANCE = base colour does; a rough one has no reflection; the approximation is warned about once.
@@ -61,6 +62,26 @@ def plane_source(origin, point1, point2, resolution=1):
     plane.SetPoint2(*point2)
     plane.SetResolution(resolution, resolution)
     return plane
+
+
+def bowl(center, radius, normal, inside):
+    """A sphere cut open by the plane through its centre with the given normal; inside: the back faces' colour
+    (BackfaceProperty, with a highlight)."""
+    plane = vtkPlane()
+    plane.SetOrigin(*center)
+    plane.SetNormal(*normal)
+    sphere = sphere_source(center, radius, 48, 24)
+    clip = vtkClipPolyData()
+    clip.SetInputConnection(sphere.GetOutputPort())
+    clip.SetClipFunction(plane)
+    a = actor_of(clip, (1.0, 0.4, 0.2))
+    a.pipeline = (sphere, clip, plane)  # an output port does not keep its producer alive
+    back = vtkProperty()
+    back.SetColor(*inside)
+    back.SetSpecular(0.5)
+    back.SetSpecularPower(20)
+    a.SetBackfaceProperty(back)
+    return a
 
 
 def window(ren, width, height, render_pass):
@@ -138,6 +159,13 @@ class TestWhittedPythonEdges(Testing.vtkTest):
         m = actor_of(plane_source((-2, 1.5, 0), (2, 1.5, 0), (-2, 1.5, 2)), (0.1, 0.1, 0.1))
         m.GetProperty().GetInformation().Set(vtkWhittedPass.REFLECTANCE(), [0.85], 1)
         ren.AddActor(m)
+        # A PBR copper sphere (smooth metal: a coloured mirror) and a bowl whose inside has its own colour
+        copper = actor_of(sphere_source((-1.25, -0.35, 0.35), 0.35, 32, 16), (0.95, 0.64, 0.54))
+        copper.GetProperty().SetInterpolationToPBR()
+        copper.GetProperty().SetMetallic(1.0)
+        copper.GetProperty().SetRoughness(0.1)
+        ren.AddActor(copper)
+        ren.AddActor(bowl((1.45, -0.3, 0.4), 0.4, (0.2, 1, -0.5), (0.1, 0.8, 0.3)))
         ren.SetBackground(0.32, 0.34, 0.43)
         # A headlight, and a light between the objects and the mirror: the mirror shows their lit backs
         head = vtkLight()
@@ -161,19 +189,7 @@ class TestWhittedPythonEdges(Testing.vtkTest):
 
     def testBackfaceProperty(self):
         ren = vtkRenderer()
-        sphere = sphere_source((0, 0, 0), 0.5, 48, 24)
-        plane = vtkPlane()
-        plane.SetNormal(0.3, -0.2, -1)
-        clip = vtkClipPolyData()
-        clip.SetInputConnection(sphere.GetOutputPort())
-        clip.SetClipFunction(plane)
-        bowl = actor_of(clip, (1.0, 0.4, 0.2))
-        back = vtkProperty()
-        back.SetColor(0.1, 0.9, 0.2)
-        back.SetSpecular(0.5)
-        back.SetSpecularPower(20)
-        bowl.SetBackfaceProperty(back)
-        ren.AddActor(bowl)
+        ren.AddActor(bowl((0, 0, 0), 0.5, (0.3, -0.2, -1), (0.1, 0.9, 0.2)))
         camera = ren.GetActiveCamera()
         camera.SetPosition(0.4, -0.6, 2.5)
         camera.SetFocalPoint(0, 0, 0)
