@@ -9,7 +9,8 @@
 - Regression image (TestWhittedPythonEdges.png): edged sphere and floor with shadows, seen directly and in a
   mirror, with a translucent edged cube (edges keep their pixel width in the mirror), a PBR copper sphere (a
   coloured mirror) and a bowl whose inside shows its BackfaceProperty.
-- BackfaceProperty: an open hemisphere whose inside is green agrees with VTK's image of it.
+- BackfaceProperty: an open hemisphere whose inside is green agrees with VTK's image of it; so do the same bowl
+  with BackfaceCulling and with FrontfaceCulling in front of a plane (culled faces pass rays).
 - PBR: a metallic, smooth quad in front of an unlit white wall shows its base colour as a mirror, exactly as
   REFLECTANCE = base colour does; a rough one has no reflection; the approximation is warned about once.
 """
@@ -201,6 +202,24 @@ class TestWhittedPythonEdges(Testing.vtkTest):
                                                                           green.sum()))
         self.assertGreater(green.sum(), 2000)  # the inside shows the back colour
         self.assertLess((d > 3).mean(), 0.005)
+
+    def testFaceCulling(self):
+        """Culled faces pass rays: the bowl culling its back faces shows its outside only, the one culling its
+        front faces its (back-face coloured) inside only, as in VTK's image; a plane behind shows through."""
+        for cull in ("Backface", "Frontface"):
+            ren = vtkRenderer()
+            a = bowl((0, 0, 0), 0.5, (0.3, -0.2, -1), (0.1, 0.9, 0.2))
+            getattr(a.GetProperty(), "%sCullingOn" % cull)()
+            ren.AddActor(a)
+            ren.AddActor(actor_of(plane_source((-2, -2, -1), (2, -2, -1), (-2, 2, -1)), (0.9, 0.9, 0.9)))
+            camera = ren.GetActiveCamera()
+            camera.SetPosition(0.4, -0.6, 2.5)
+            camera.SetFocalPoint(0, 0, 0)
+            ren.ResetCameraClippingRange()
+            gl, rt = render_both(ren)
+            d = np.abs(gl - rt).max(axis=2)
+            print("%s culling: mean |d| %.4f, >3: %.3f%%" % (cull, d.mean(), 100 * (d > 3).mean()))
+            self.assertLess((d > 3).mean(), 0.005)
 
     def testPBR(self):
         def scene(material):
