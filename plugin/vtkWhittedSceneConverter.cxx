@@ -524,9 +524,16 @@ struct vtkWhittedSceneConverter::Internals
       return true;
     }
     vtkProperty* bp = actor->GetBackfaceProperty();
-    back = bp ? convertBack(bp, p) : front;
+    if (bp)
+    {
+      back = convertBack(bp, p);
+    }
     if (cullFront)
     {
+      if (!bp)
+      {
+        back = front;
+      }
       front = vtkWhittedMaterials::Culled();
     }
     return bp || cullFront;
