@@ -1,6 +1,7 @@
 #include "integrator.h"
 
 #include <algorithm>
+#include <optional>
 
 namespace whitted {
 
@@ -47,6 +48,8 @@ Sample Integrator::trace(const Ray& ray, RayStats& stats, const Color& screenBac
   Vec3 first(0.0);
   PathState ps;
   ps.screenBackground = screenBackground;
+  // Edge footprints grow with the distance from the eye; camera rays may start on the near plane
+  if (s_.pixelAngle > 0.0) ps.pathLength = glm::length(ray.origin - s_.eye);
   out.color = (this->*kernel_)(ray, 0, Color(1.0f), true, stats, ps, &tHit, &first);
   out.hit = std::isfinite(tHit);
   out.firstHit = first;
@@ -101,23 +104,27 @@ void Integrator::buildRemainingBounds() {
   float aMax = 0.0f, fixedPoint = escape;
   bool diverges = false;
   for (std::size_t i = 0; i < scene_.materialCount(); ++i) {
-    const Material& m = scene_.material(uint32_t(i));
-    const float amb = m.ambient * std::max(1.0f, maxComponent(m.ambientColor));
-    const float dif = m.diffuse * std::max(1.0f, maxComponent(m.diffuseColor));
-    const float spe = m.specular * maxComponent(m.specularColor);
-    const float body = m.lighting ? amb + lightSum * dif : amb + dif;
-    const float highlight = m.lighting ? lightSum * spe : 0.0f;
-    const float a = std::min(m.opacity, bodyWeight(m, m.opacity) * std::min(1.0f, body) +
-                                            m.opacity * std::min(1.0f, highlight));
-    const Term t{a, maxComponent(m.reflectance + m.transmittance)};
-    terms.push_back(t);
-    aMax = std::max(aMax, t.a);
-    // The series B = max(escape, a + k B) has a finite fixed point unless a surface adds light (a > 0) without
-    // losing weight (k >= 1): two such facing surfaces would add a at every bounce
-    if (t.k < 1.0f)
-      fixedPoint = std::max(fixedPoint, t.a / (1.0f - t.k));
-    else if (t.a > 0.0f)
-      diverges = true;
+    // A material with edges shades its edge pixels with its edge material: both count
+    const Material& base = scene_.material(uint32_t(i));
+    for (int variant = 0; variant < (base.edgeWidth > 0.0f ? 2 : 1); ++variant) {
+      const Material m = variant ? edgeMaterial(base) : base;
+      const float amb = m.ambient * std::max(1.0f, maxComponent(m.ambientColor));
+      const float dif = m.diffuse * std::max(1.0f, maxComponent(m.diffuseColor));
+      const float spe = m.specular * maxComponent(m.specularColor);
+      const float body = m.lighting ? amb + lightSum * dif : amb + dif;
+      const float highlight = m.lighting ? lightSum * spe : 0.0f;
+      const float a = std::min(m.opacity, bodyWeight(m, m.opacity) * std::min(1.0f, body) +
+                                              m.opacity * std::min(1.0f, highlight));
+      const Term t{a, maxComponent(m.reflectance + m.transmittance)};
+      terms.push_back(t);
+      aMax = std::max(aMax, t.a);
+      // The series B = max(escape, a + k B) has a finite fixed point unless a surface adds light (a > 0) without
+      // losing weight (k >= 1): two such facing surfaces would add a at every bounce
+      if (t.k < 1.0f)
+        fixedPoint = std::max(fixedPoint, t.a / (1.0f - t.k));
+      else if (t.a > 0.0f)
+        diverges = true;
+    }
   }
   seriesConverges_ = !diverges;
   if (seriesConverges_) {
@@ -219,7 +226,6 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
   if (tHit) *tHit = hit.t;
   SurfacePoint sp = scene_.surface(ray, hit);
   if (firstHit) *firstHit = sp.p;
-  const Material& m = scene_.material(sp.material);
 
   // Orient normals toward the incoming ray (VTK flips normals of back faces)
   Vec3 d = glm::normalize(ray.dir);
@@ -227,6 +233,22 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
   Vec3 nf = backFace ? -sp.ns : sp.ns;
   Vec3 ngf = backFace ? -sp.ng : sp.ng;
   Vec3 v = (depth == 0 && s_.viewFromEye) ? glm::normalize(s_.eye - sp.p) : -d;
+
+  // The material: the back material on back faces (VTK's BackfaceProperty), the edge material within half the
+  // edge width of a drawn edge (lit as VTK lights lines over a surface: facing the viewer)
+  const Material* mp = &scene_.material(sp.material);
+  if (backFace && mp->backMaterial >= 0) mp = &scene_.material(uint32_t(mp->backMaterial));
+  const double pathHere = scene_.features().edges ? ps.pathLength + hit.t * glm::length(ray.dir) : 0.0;
+  std::optional<Material> edge;  // constructed only on edge pixels
+  if (scene_.features().edges && mp->edgeWidth > 0.0f) {
+    const double halfWidth = 0.5 * double(mp->edgeWidth) * (s_.pixelSize + s_.pixelAngle * pathHere);
+    if (halfWidth > 0.0 && scene_.edgeDistance(ray, hit, sp.p) <= halfWidth) {
+      edge = edgeMaterial(*mp);
+      mp = &*edge;
+      nf = v;
+    }
+  }
+  const Material& m = *mp;
 
   // Local shading, weighted by opacity as VTK blends it
   float opacity = m.opacity * (sp.hasColor && m.colorSource != ColorSource::Material ? sp.color.a : 1.0f);
@@ -325,7 +347,10 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
       ++counter;
       double t = kInfinity;
       const bool rayStraight = straight && refractedRay && refractedStraight;
+      const double pathBefore = ps.pathLength;
+      ps.pathLength = pathHere;
       Color c = radiance<Reflect, Refract, Shadows>(r, depth + 1, w, rayStraight, st, ps, &t, nullptr);
+      ps.pathLength = pathBefore;
       if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) {
         // The refracted ray travelled t units inside the medium. In double, and only where there is absorption: a
         // path longer than float's range must give exp(-inf) = 0, and no absorption must give 1, not 0 x inf

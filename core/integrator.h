@@ -25,12 +25,20 @@ struct IntegratorSettings {
   /// VTK computes the specular view vector from the camera position even for parallel projection; set this (and
   /// eye) to do the same for camera rays. Default off: the view vector is minus the ray direction.
   bool viewFromEye = false;
-  Vec3 eye{0.0};  ///< Camera position, used when viewFromEye is set.
+  Vec3 eye{0.0};  ///< Camera position, used when viewFromEye is set and for edge footprints (pixelAngle).
   /// Depth of the reference the truncation bound is stated against when the untraced series cannot converge
   /// (some surface has kr + kt = 1 and a local colour, so every further bounce may add light): the bound then
   /// covers what a render at max(this, maxDepth) and threshold 0 would add. Where the series converges the bound
   /// holds against any depth (the infinite-depth image). Default 16.
   int truncationReferenceDepth = 16;
+  /// Pixel footprint for edges of a given width in pixels (Material::edgeWidth): one pixel spans
+  /// pixelSize + pixelAngle x L world units across a ray at path length L from the camera (summed over the
+  /// path's segments, so exact through plane mirrors, approximate after curved mirrors and refraction).
+  /// Perspective camera: pixelAngle = the angle of one pixel at the image centre (radians), pixelSize 0;
+  /// parallel: pixelSize = one pixel's world size, pixelAngle 0. Default 0: no edges are drawn. With pixelAngle,
+  /// path lengths start at eye (camera rays may start on the near plane).
+  double pixelSize = 0.0;
+  double pixelAngle = 0.0;
 };
 
 /// Ray counts of one frame (summed over threads).
@@ -117,6 +125,7 @@ class Integrator {
     float truncation = 0.0f;  ///< Radiance bound of what was left out (see Sample::truncationBound).
     float escaped = 0.0f;     ///< Weight (mean over RGB) of straight escapes, times 1 - backgroundAlpha.
     Color screenBackground{0.0f};  ///< What straight escapes see (see Sample).
+    double pathLength = 0.0;       ///< Length of the path up to the current ray's origin (edge footprints).
   };
   using Kernel = Color (Integrator::*)(const Ray&, int, Color, bool, RayStats&, PathState&, double*, Vec3*) const;
   const Scene& scene_;

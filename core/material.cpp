@@ -89,6 +89,8 @@ uint32_t sanitizeMaterial(Material& m) {
     fixed |= 1u << 6;
   }
   fixed |= fixColor(m.absorption, 0.0f, 1e30f, 1u << 7);
+  fixed |= fixColor(m.edgeColor, 0.0f, 1.0f, 1u << 0);
+  fixed |= fixRange(m.edgeWidth, 0.0f, 1e6f, 0.0f, 1u << 1);
 
   // Energy: kr + kt <= 1 per channel. Above, scale both by 1 / max channel sum; the factor is stepped down by an
   // ulp at a time should float rounding leave the largest sum above 1 (one or two steps at most)
@@ -102,6 +104,20 @@ uint32_t sanitizeMaterial(Material& m) {
     fixed |= kMaterialEnergyScaled;
   }
   return fixed;
+}
+
+Material edgeMaterial(const Material& m) {
+  Material e = m;
+  e.ambientColor = e.diffuseColor = m.edgeColor;
+  e.colorSource = ColorSource::Material;
+  e.texture = -1;
+  e.reflectance = Color(0.0f);
+  e.transmittance = glm::min(m.transmittance, Color(1.0f - m.opacity));
+  e.ior = 1.0f;
+  e.absorption = Color(0.0f);
+  e.edgeWidth = 0.0f;
+  e.backMaterial = -1;
+  return e;
 }
 
 }  // namespace whitted

@@ -41,7 +41,22 @@ struct Material {
   Color absorption{0.0f};     ///< Beer-Lambert coefficient per world unit, used only when enabled. Default 0.
 
   int32_t texture = -1;  ///< Index into Scene textures, or -1. The texel modulates the diffuse/ambient colour.
+
+  // Surface with edges (vtkProperty EdgeVisibility): triangle edges the mesh marks (TriangleMesh::edgeFlags) are
+  // drawn where a ray passes within edgeWidth / 2 pixels of them (pixel footprint: IntegratorSettings), shaded
+  // with edgeMaterial(*this).
+  float edgeWidth = 0.0f;   ///< Edge width in pixels (vtkProperty LineWidth); 0 = no edges. Default 0.
+  Color edgeColor{1.0f};    ///< vtkProperty EdgeColor. Default white.
+  /// Material of the back faces (vtkProperty BackfaceProperty): index into Scene materials, or -1 = this one.
+  /// Used where the ray meets the geometric normal from behind. Default -1.
+  int32_t backMaterial = -1;
 };
+
+/// The material an edge pixel is shaded with: VTK draws edges as lines in EdgeColor over the surface, with the
+/// surface's coefficients and Opacity but no texture, no scalar colours and no Whitted terms of their own. So:
+/// ambient and diffuse colours = edgeColor, no reflection, transmittance min(kt, 1 - opacity) (VTK's blend of a
+/// translucent actor, never more than the surface's own), index 1, no edges.
+Material edgeMaterial(const Material& m);
 
 /// RGBA8 texture, rows bottom to top (OpenGL/VTK order).
 struct Texture {
@@ -79,7 +94,7 @@ constexpr uint32_t kMaterialEnergyScaled = 1u << 8;
 /// Sanitises a material in place and returns a bit mask of what was fixed (0 = nothing), so adapters can warn
 /// once. Bits 0-7: a value was NaN, infinite or outside its documented range and was replaced or clamped
 /// (0 a colour, 1 ambient/diffuse/specular, 2 specularPower, 3 opacity, 4 reflectance, 5 transmittance, 6 ior,
-/// 7 absorption); kr and kt are each clamped to [0,1] first. Then, if kr + kt > 1 in any channel, both are
+/// 7 absorption; an edge colour outside [0,1] sets bit 0, a negative or non-finite edge width (set to 0) bit 1); kr and kt are each clamped to [0,1] first. Then, if kr + kt > 1 in any channel, both are
 /// scaled as kMaterialEnergyScaled describes. A material with kr + kt <= 1 everywhere keeps kr and kt bit-exact.
 uint32_t sanitizeMaterial(Material& m);
 

@@ -220,7 +220,14 @@ void Scene::buildTopLevel(CommitStats& st) {
 
 void Scene::sanitizeInputs(CommitStats& st) {
   // Cheap: once per material and light
-  for (Material& m : materials_) st.invalidMaterials += sanitizeMaterial(m) != 0;
+  for (Material& m : materials_) {
+    st.invalidMaterials += sanitizeMaterial(m) != 0;
+    // A back material must be another material (one level: a back material's own is ignored)
+    if (m.backMaterial >= 0 && std::size_t(m.backMaterial) >= materials_.size()) {
+      m.backMaterial = -1;
+      ++st.invalidMaterials;
+    }
+  }
   sanitizeColor(background, 0.0f, 1e6f);
   sanitizeColor(background2, 0.0f, 1e6f);
   if (!std::isfinite(backgroundAlpha)) backgroundAlpha = 1.0f;
@@ -246,23 +253,30 @@ void Scene::updateFeaturesAndBounds() {
   maxSecondary_ = 0.0f;
   for (uint32_t slot : topInstances_) {
     const Instance& in = instances_[slot];
-    const Material& m = materials_[in.material];
     const Object& o = objects_[in.object];
-    if (maxComponent(m.reflectance) > 0.0f) features_.reflective = true;
-    if (maxComponent(m.transmittance) > 0.0f) features_.transmissive = true;
     if (o.type() == GeometryType::Spheres) features_.spheres = true;
     if (o.type() == GeometryType::Tubes) features_.tubes = true;
     if (!in.identity) features_.transforms = true;
     const TriangleMesh* mesh = std::get_if<TriangleMesh>(&o.geometry);
-    if (m.texture >= 0 && size_t(m.texture) < textures_.size() && mesh && !mesh->texcoords.empty())
-      features_.textures = true;
-    float colorMax = 1.0f;  // geometry colours and texels are in [0,1]
-    float amb = m.ambient * std::max(colorMax, maxComponent(m.ambientColor));
-    float dif = m.diffuse * std::max(colorMax, maxComponent(m.diffuseColor));
-    float spe = m.specular * maxComponent(m.specularColor);
-    float local = m.lighting ? amb + lightSum * (dif + spe) : amb + dif;
-    bound = std::max(bound, local);
-    maxSecondary_ = std::max(maxSecondary_, maxComponent(m.reflectance + m.transmittance));
+    // The instance's material and, for back faces, its back material
+    const Material& front = materials_[in.material];
+    const Material* back = front.backMaterial >= 0 ? &materials_[std::size_t(front.backMaterial)] : nullptr;
+    for (const Material* mp : {&front, back}) {
+      if (!mp) continue;
+      const Material& m = *mp;
+      if (maxComponent(m.reflectance) > 0.0f) features_.reflective = true;
+      if (maxComponent(m.transmittance) > 0.0f) features_.transmissive = true;
+      if (m.edgeWidth > 0.0f && mesh) features_.edges = true;
+      if (m.texture >= 0 && size_t(m.texture) < textures_.size() && mesh && !mesh->texcoords.empty())
+        features_.textures = true;
+      float colorMax = 1.0f;  // geometry colours, texels and edge colours are in [0,1]
+      float amb = m.ambient * std::max(colorMax, maxComponent(m.ambientColor));
+      float dif = m.diffuse * std::max(colorMax, maxComponent(m.diffuseColor));
+      float spe = m.specular * maxComponent(m.specularColor);
+      float local = m.lighting ? amb + lightSum * (dif + spe) : amb + dif;
+      bound = std::max(bound, local);
+      maxSecondary_ = std::max(maxSecondary_, maxComponent(m.reflectance + m.transmittance));
+    }
   }
   localBound_ = bound;
 }

@@ -29,6 +29,7 @@ struct Features {
   bool tubes = false;
   bool transforms = false;  ///< Some visible instance has a non-identity transform.
   bool textures = false;    ///< Some visible material uses a texture with texture coordinates present.
+  bool edges = false;       ///< Some visible material draws edges (Material::edgeWidth > 0).
 };
 
 /// Counts of what commit() did, for statistics and for tests of caching.
@@ -162,6 +163,9 @@ class Scene {
 
   /// Surface data of a hit.
   SurfacePoint surface(const Ray& ray, const Hit& hit) const;
+  /// Distance, in world units across the ray, from the hit point p to the nearest drawn edge of the hit triangle
+  /// (TriangleMesh::edgeFlags; see edgeDistance in edges.h); infinity for spheres and tubes.
+  double edgeDistance(const Ray& ray, const Hit& hit, const Vec3& p) const;
 
  private:
   struct Instance {

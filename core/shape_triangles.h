@@ -22,6 +22,10 @@ struct TriangleMesh {
   /// then looked up in Scene texture colorMap (nearest, clamped, row 0) as the geometry colour, before lighting.
   std::vector<float> colorCoords;
   int32_t colorMap = -1;
+  /// Optional per-triangle (original index) mask of the edges that are polygon edges, drawn when the material has
+  /// edges (Material::edgeWidth): bit k = the edge from vertex k to vertex (k+1) % 3. Empty (or of another size)
+  /// = all three. A triangulated polygon marks its boundary edges only, as VTK draws them.
+  std::vector<uint8_t> edgeFlags;
 };
 
 /// Per-ray constants of the watertight triangle test (axis permutation and shear), computed once per ray.

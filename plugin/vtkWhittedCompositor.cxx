@@ -6,6 +6,7 @@
 #include "vtkOpenGLShaderCache.h"
 #include "vtkOpenGLState.h"
 #include "vtkShaderProgram.h"
+#include "vtkMapper.h"
 #include "vtkTextureObject.h"
 #include "vtk_glew.h"
 
@@ -37,12 +38,28 @@ bool vtkWhittedCompositor::Draw(vtkOpenGLRenderWindow* win, const whitted::Frame
     std::string fs = vtkOpenGLRenderUtilities::GetFullScreenQuadFragmentShaderTemplate();
     vtkShaderProgram::Substitute(fs, "//VTK::FSQ::Decl",
       "uniform sampler2D colorTexture;\n"
-      "uniform sampler2D depthTexture;\n");
+      "uniform sampler2D depthTexture;\n"
+      "uniform vec3 polygonOffset;\n" // factor, units x resolvable depth, texels per pixel
+      // Depth slope per pixel, as glPolygonOffset's DZ: per axis the smaller one-sided difference
+      // to a hit neighbour (a silhouette must not count as a slope)
+      "float slope(float d, float a, float b) {\n"
+      "  float da = a < 1.0 ? abs(a - d) : 1.0, db = b < 1.0 ? abs(b - d) : 1.0;\n"
+      "  float s = min(da, db);\n"
+      "  return s < 1.0 ? s : 0.0;\n"
+      "}\n");
     vtkShaderProgram::Substitute(fs, "//VTK::FSQ::Impl",
       "vec4 color = texture(colorTexture, texCoord);\n"
       "if (color.a <= 0.0) { discard; }\n"
       "gl_FragData[0] = color;\n"
-      "gl_FragDepth = texture(depthTexture, texCoord).r;\n");
+      "float d = texture(depthTexture, texCoord).r;\n"
+      "if (polygonOffset.x != 0.0 || polygonOffset.y != 0.0) {\n"
+      "  float dx = slope(d, textureOffset(depthTexture, texCoord, ivec2(1, 0)).r,\n"
+      "    textureOffset(depthTexture, texCoord, ivec2(-1, 0)).r);\n"
+      "  float dy = slope(d, textureOffset(depthTexture, texCoord, ivec2(0, 1)).r,\n"
+      "    textureOffset(depthTexture, texCoord, ivec2(0, -1)).r);\n"
+      "  d = clamp(d + polygonOffset.x * max(dx, dy) * polygonOffset.z + polygonOffset.y, 0.0, 1.0);\n"
+      "}\n"
+      "gl_FragDepth = d;\n");
     this->Quad = new vtkOpenGLQuadHelper(
       win, vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(), fs.c_str(), "");
     for (vtkTextureObject* t : { this->ColorTexture.Get(), this->DepthTexture.Get() })
@@ -72,6 +89,18 @@ bool vtkWhittedCompositor::Draw(vtkOpenGLRenderWindow* win, const whitted::Frame
   this->DepthTexture->Activate();
   this->Quad->Program->SetUniformi("colorTexture", this->ColorTexture->GetTextureUnit());
   this->Quad->Program->SetUniformi("depthTexture", this->DepthTexture->GetTextureUnit());
+  // VTK's coincident topology resolution (ParaView turns it on): surfaces are pushed back as VTK
+  // pushes its own polygons, so OpenGL lines and points drawn over a traced surface (wireframes,
+  // the selection highlight) stay in front of it as they do over OpenGL surfaces
+  float offset[3] = { 0.0f, 0.0f, width > 0 ? static_cast<float>(fb.width) / width : 1.0f };
+  if (vtkMapper::GetResolveCoincidentTopology() == VTK_RESOLVE_POLYGON_OFFSET)
+  {
+    double factor = 0.0, units = 0.0;
+    vtkMapper::GetResolveCoincidentTopologyPolygonOffsetParameters(factor, units);
+    offset[0] = static_cast<float>(factor);
+    offset[1] = static_cast<float>(units / 16777215.0); // a unit of a 24-bit depth buffer
+  }
+  this->Quad->Program->SetUniform3f("polygonOffset", offset);
 
   // Draw under scoped state: blend premultiplied colour, depth-test against what is there
   vtkOpenGLState* state = win->GetState();

@@ -8,7 +8,10 @@
  * cleared there (background, gradient, lower layers, a transparent background for compositing)
  * stays; partly covered pixels are blended as premultiplied colour. The depth test is LEQUAL
  * against the cleared (or preserved) depth buffer, so OpenGL geometry drawn before or after
- * depth-composes with the traced geometry.
+ * depth-composes with the traced geometry. When VTK resolves coincident topology by polygon offset
+ * (vtkMapper::SetResolveCoincidentTopologyToPolygonOffset; ParaView does), the traced depth is pushed
+ * back as glPolygonOffset pushes VTK's own polygons (factor x depth slope + units), so lines and
+ * points drawn over a traced surface stay in front of it.
  */
 
 #ifndef vtkWhittedCompositor_h

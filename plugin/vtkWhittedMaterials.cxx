@@ -63,12 +63,12 @@ void ReadWhittedKeys(vtkInformation* info, whitted::Material& m)
 }
 
 //------------------------------------------------------------------------------
-whitted::Material vtkWhittedMaterials::Convert(vtkActor* actor, const BlockAttributes& block,
-  bool scalarColors, int texture, bool lightsOn, vtkWhittedWarnings& warnings)
+namespace
 {
-  // VTK's surface terms
-  vtkProperty* p = actor->GetProperty();
-  whitted::Material m;
+// VTK's surface terms of property p (Ambient, Diffuse, Specular, their colours, SpecularPower,
+// Opacity).
+void ReadSurfaceTerms(vtkProperty* p, whitted::Material& m)
+{
   double c[3];
   p->GetAmbientColor(c);
   m.ambientColor = Color(c[0], c[1], c[2]);
@@ -81,8 +81,45 @@ whitted::Material vtkWhittedMaterials::Convert(vtkActor* actor, const BlockAttri
   m.specular = static_cast<float>(p->GetSpecular());
   m.specularPower = static_cast<float>(p->GetSpecularPower());
   m.opacity = static_cast<float>(p->GetOpacity());
-  m.lighting = p->GetLighting() && lightsOn;
-  m.flatShading = p->GetInterpolation() == VTK_FLAT;
+}
+
+// PBR interpolation as a Whitted material (see plugin/README.md, "PBR interpolation"): base colour
+// (Color) -> diffuse colour; metallic and roughness -> reflectance
+// (1 - Roughness) x (Metallic x base colour + (1 - Metallic) x F0), F0 the dielectric normal-incidence
+// reflectance of BaseIOR; EmissiveFactor -> ambient term, only where VTK shows emission (an
+// emissive texture; its texels are not sampled). A REFLECTANCE key wins over the mapping.
+void MapPBR(vtkProperty* p, whitted::Material& m)
+{
+  const double metallic = std::clamp(p->GetMetallic(), 0.0, 1.0);
+  const double roughness = std::clamp(p->GetRoughness(), 0.0, 1.0);
+  const double n = p->GetBaseIOR();
+  const double f0 = std::isfinite(n) && n > 0.0 ? ((n - 1.0) / (n + 1.0)) * ((n - 1.0) / (n + 1.0)) : 0.04;
+  double base[3];
+  p->GetColor(base);
+  for (int i = 0; i < 3; ++i)
+  {
+    m.reflectance[i] =
+      static_cast<float>((1.0 - roughness) * (metallic * base[i] + (1.0 - metallic) * f0));
+  }
+  if (p->GetTexture("emissiveTex"))
+  {
+    double e[3];
+    p->GetEmissiveFactor(e);
+    m.ambientColor = Color(e[0], e[1], e[2]);
+    m.ambient = 1.0f;
+  }
+}
+
+// The material of property p (the actor's property or a back-face property) for one block;
+// lighting, interpolation and edges come from the property front (one shader draws both faces).
+whitted::Material ConvertProperty(vtkActor* actor, vtkProperty* p, vtkProperty* front,
+  const vtkWhittedMaterials::BlockAttributes& block, bool scalarColors, int texture, bool lightsOn,
+  vtkWhittedWarnings& warnings)
+{
+  whitted::Material m;
+  ReadSurfaceTerms(p, m);
+  m.lighting = front->GetLighting() && lightsOn;
+  m.flatShading = front->GetInterpolation() == VTK_FLAT;
 
   // Block overrides of a composite mapper replace the property's colour and opacity
   if (block.HasColor)
@@ -107,9 +144,27 @@ whitted::Material vtkWhittedMaterials::Convert(vtkActor* actor, const BlockAttri
   const float opacity = std::isfinite(m.opacity) ? std::clamp(m.opacity, 0.0f, 1.0f) : 1.0f;
   m.transmittance = Color(1.0f - opacity);
   m.ior = 1.0f;
+  if (front->GetInterpolation() == VTK_PBR)
+  {
+    MapPBR(p, m);
+    warnings.WarnOnce(actor, vtkWhittedWarnings::PBRInterpolation,
+      "PBR interpolation is approximated by a Whitted material: base colour as diffuse colour, "
+      "(1 - Roughness) x (Metallic x base colour + (1 - Metallic) x F0(BaseIOR)) as reflectance, "
+      "EmissiveFactor as ambient term with an emissive texture (not sampled); roughness blur, "
+      "anisotropy, normal and ORM textures are not traced");
+  }
   if (vtkInformation* info = p->GetInformation())
   {
     ReadWhittedKeys(info, m);
+  }
+
+  // Surface With Edges (width in pixels), drawn on front and back faces
+  if (front->GetEdgeVisibility() && front->GetRepresentation() == VTK_SURFACE)
+  {
+    double c[3];
+    front->GetEdgeColor(c);
+    m.edgeColor = Color(c[0], c[1], c[2]);
+    m.edgeWidth = static_cast<float>(front->GetLineWidth());
   }
 
   // Sanitise; the energy warning quotes the largest channel sum of kr + kt as sanitizeMaterial
@@ -124,5 +179,33 @@ whitted::Material vtkWhittedMaterials::Convert(vtkActor* actor, const BlockAttri
   {
     warnings.WarnMaterial(actor, fixed, energy);
   }
+  return m;
+}
+}
+
+//------------------------------------------------------------------------------
+whitted::Material vtkWhittedMaterials::Convert(vtkActor* actor, const BlockAttributes& block,
+  bool scalarColors, int texture, bool lightsOn, vtkWhittedWarnings& warnings)
+{
+  vtkProperty* p = actor->GetProperty();
+  return ConvertProperty(actor, p, p, block, scalarColors, texture, lightsOn, warnings);
+}
+
+//------------------------------------------------------------------------------
+whitted::Material vtkWhittedMaterials::ConvertBackface(vtkActor* actor, vtkProperty* back,
+  vtkProperty* shader, const BlockAttributes& block, bool scalarColors, int texture, bool lightsOn,
+  vtkWhittedWarnings& warnings)
+{
+  return ConvertProperty(actor, back, shader, block, scalarColors, texture, lightsOn, warnings);
+}
+
+//------------------------------------------------------------------------------
+whitted::Material vtkWhittedMaterials::Culled()
+{
+  whitted::Material m;
+  m.opacity = 0.0f;
+  m.transmittance = whitted::Color(1.0f);
+  m.ior = 1.0f;
+  m.ambient = m.diffuse = m.specular = 0.0f;
   return m;
 }

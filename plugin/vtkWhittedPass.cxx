@@ -6,6 +6,7 @@
 #include "vtkWhittedSceneConverter.h"
 
 #include "vtkCamera.h"
+#include "vtkMatrix4x4.h"
 #include "vtkCameraPass.h"
 #include "vtkCommand.h"
 #include "vtkFloatArray.h"
@@ -45,6 +46,18 @@ namespace
 double SecondsSince(std::chrono::steady_clock::time_point t)
 {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// One viewport pixel's footprint, for edge widths in pixels (IntegratorSettings::pixelAngle and
+// pixelSize): the view's half height is 1 / P[1][1] of VTK's projection matrix, at unit distance
+// (perspective) or in world units (parallel), over half the traced image's height in pixels.
+void SetPixelFootprint(
+  whitted::IntegratorSettings& is, vtkCamera* cam, double aspect, int viewportHeight)
+{
+  const double p11 = cam->GetProjectionTransformMatrix(aspect, -1, 1)->GetElement(1, 1);
+  const double pixel = viewportHeight > 0 && p11 > 0.0 ? 2.0 / (p11 * viewportHeight) : 0.0;
+  is.pixelAngle = cam->GetParallelProjection() ? 0.0 : pixel;
+  is.pixelSize = cam->GetParallelProjection() ? pixel : 0.0;
 }
 }
 
@@ -286,9 +299,12 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
     vtkCamera* cam = ren->GetActiveCamera();
     const whitted::Camera camera = whitted::Camera::fromViewProjection(vtkWhittedToMat4(
       cam->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1)));
-    r.Trace = in->Trace(this, win, converter->GetScene(), camera,
-      vtkWhittedPassInternals::FrameSettings(this, cam, r.Conversion.HeadlightShading), traceWidth,
-      traceHeight);
+    whitted::RenderSettings settings =
+      vtkWhittedPassInternals::FrameSettings(this, cam, r.Conversion.HeadlightShading);
+    // Edge widths in traced pixels: interactive frames (fewer, larger pixels) keep their edges
+    SetPixelFootprint(settings.integrator, cam, ren->GetTiledAspectRatio(), traceHeight);
+    r.Trace = in->Trace(
+      this, win, converter->GetScene(), camera, settings, traceWidth, traceHeight);
   }
   catch (const std::exception& e)
   {

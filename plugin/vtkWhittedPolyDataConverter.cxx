@@ -161,7 +161,30 @@ struct TriangleList
 {
   whitted::LargeVector<glm::uvec3> Tris;
   std::vector<vtkIdType> Cells;
+  /// Per triangle, its edges that are polygon edges (whitted::TriangleMesh::edgeFlags): VTK draws a
+  /// polygon's outline for Surface With Edges, not the diagonals of its triangulation.
+  std::vector<uint8_t> Edges;
+
+  void Add(const glm::uvec3& tri, vtkIdType cell, uint8_t edges)
+  {
+    this->Tris.push_back(tri);
+    this->Cells.push_back(cell);
+    this->Edges.push_back(edges);
+  }
 };
+
+// The edge bits of triangle (a, b, c), local indices of an n-gon: an edge is the polygon's if its
+// ends are neighbours on the outline.
+uint8_t PolygonEdges(vtkIdType a, vtkIdType b, vtkIdType c, vtkIdType n)
+{
+  auto outline = [n](vtkIdType i, vtkIdType j)
+  {
+    const vtkIdType d = i > j ? i - j : j - i;
+    return d == 1 || d == n - 1;
+  };
+  return static_cast<uint8_t>(
+    (outline(a, b) ? 1 : 0) | (outline(b, c) ? 2 : 0) | (outline(c, a) ? 4 : 0));
+}
 
 void Triangulate(vtkPoints* points, const CellArrays& cells, TriangleList& out, vtkIdType& invalid)
 {
@@ -180,8 +203,7 @@ void Triangulate(vtkPoints* points, const CellArrays& cells, TriangleList& out, 
       {
         for (vtkIdType i = 1; i + 1 < n; ++i)
         {
-          out.Tris.emplace_back(ids[0], ids[i], ids[i + 1]);
-          out.Cells.push_back(cellId);
+          out.Add(glm::uvec3(ids[0], ids[i], ids[i + 1]), cellId, PolygonEdges(0, i, i + 1, n));
         }
         return;
       }
@@ -200,20 +222,18 @@ void Triangulate(vtkPoints* points, const CellArrays& cells, TriangleList& out, 
         const vtkIdType a = tris->GetId(i), b = tris->GetId(i + 1), c = tris->GetId(i + 2);
         if (a >= 0 && a < n && b >= 0 && b < n && c >= 0 && c < n)
         {
-          out.Tris.emplace_back(ids[a], ids[b], ids[c]);
-          out.Cells.push_back(cellId);
+          out.Add(glm::uvec3(ids[a], ids[b], ids[c]), cellId, PolygonEdges(a, b, c, n));
         }
       }
     });
 
-  // Strips: alternate winding as OpenGL does
+  // Strips: alternate winding as OpenGL does; VTK draws every edge of a strip's triangles
   cells.ForEachValidCell(CellArrays::Strips, np, invalid,
     [&](vtkIdType n, const vtkIdType* ids, vtkIdType cellId)
     {
       for (vtkIdType j = 0; j + 2 < n; ++j)
       {
-        out.Tris.emplace_back(ids[j], ids[j + 1 + j % 2], ids[j + 1 + (j + 1) % 2]);
-        out.Cells.push_back(cellId);
+        out.Add(glm::uvec3(ids[j], ids[j + 1 + j % 2], ids[j + 1 + (j + 1) % 2]), cellId, 7);
       }
     });
 }
@@ -662,6 +682,7 @@ void AddTriangles(const PrimitiveInput& in, vtkWhittedPolyDataConverter::Primiti
       m.triangles[t] = glm::uvec3(t * 3, t * 3 + 1, t * 3 + 2);
     }
   }
+  m.edgeFlags = std::move(tl.Edges);
   if (in.Colors.CellColors())
   {
     m.triangleColors.resize(tl.Cells.size());

@@ -21,6 +21,7 @@
 #include "vtkDataSetMapper.h"
 #include "vtkInformation.h"
 #include "vtkInformationDoubleVectorKey.h"
+#include "vtkMatrix4x4.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkPolyDataMapper.h"
@@ -205,6 +206,7 @@ struct InstanceSlot
 {
   uint32_t Instance = 0;
   uint32_t Material = 0;
+  int32_t BackMaterial = -1; ///< Material slot of the back faces (BackfaceProperty), -1 = none yet.
   uint32_t Object = 0;
   Mat4 Matrix{ 1.0 };
   unsigned long LastFrame = 0;
@@ -229,6 +231,7 @@ struct vtkWhittedSceneConverter::Internals
   vtkWhittedGeometryCache Geometries{ Scene, Textures };
   std::map<InstanceKey, InstanceSlot> Instances;
   std::vector<std::pair<uint32_t, uint32_t>> FreeInstances; // (instance, material)
+  std::vector<int32_t> FreeBackMaterials;                   // back-face material slots
   vtkWhittedWarnings Warnings;
   bool LightsOn = true;
 
@@ -239,6 +242,7 @@ struct vtkWhittedSceneConverter::Internals
     this->Geometries.Clear();
     this->Instances.clear();
     this->FreeInstances.clear();
+    this->FreeBackMaterials.clear();
   }
 
   //----------------------------------------------------------------------------
@@ -390,15 +394,9 @@ struct vtkWhittedSceneConverter::Internals
     {
       return true;
     }
-    if (p->GetInterpolation() == VTK_PBR)
+    if (this->BackfacePartners.count(actor) && !this->BackfacePartners[actor])
     {
-      this->Warnings.WarnOnce(actor, vtkWhittedWarnings::PBRInterpolation,
-        "PBR interpolation is not supported: shaded as Gouraud");
-    }
-    if (p->GetBackfaceCulling() || p->GetFrontfaceCulling())
-    {
-      this->Warnings.WarnOnce(
-        actor, vtkWhittedWarnings::FaceCulling, "face culling is ignored by the ray tracer");
+      return true; // its faces are the back material of another actor (FaceMaterials)
     }
 
     const vtkWhittedPolyDataConverter::Options opts = GeometryOptions(actor);
@@ -420,9 +418,11 @@ struct vtkWhittedSceneConverter::Internals
       const vtkWhittedGeometryCache::Geometry& g =
         this->Geometries.Get(mapper, pieces[i].Poly, opts, radiusScaleFn, converted);
       this->Warnings.WarnProblems(actor, p, g.Issues, pieces.size() > 1 ? static_cast<int>(i) : -1);
-      const whitted::Material material =
-        vtkWhittedMaterials::Convert(actor, pieces[i].Block, g.ScalarColors || g.ColorCoords,
-          actorTexture >= 0 && g.TCoords ? actorTexture : -1, this->LightsOn, this->Warnings);
+      const bool scalarColors = g.ScalarColors || g.ColorCoords;
+      const int texture = actorTexture >= 0 && g.TCoords ? actorTexture : -1;
+      whitted::Material front, back;
+      const bool hasBack =
+        this->FaceMaterials(actor, pieces[i].Block, scalarColors, texture, front, back);
       Mat4 placed = matrix;
       if (g.Origin != Vec3(0.0))
       {
@@ -433,7 +433,7 @@ struct vtkWhittedSceneConverter::Internals
         if (g.Objects[k] >= 0)
         {
           this->PlaceInstance(InstanceKey{ actor, leaf.Occurrence, static_cast<int>(i), k },
-            static_cast<uint32_t>(g.Objects[k]), placed, material);
+            static_cast<uint32_t>(g.Objects[k]), placed, front, hasBack ? &back : nullptr);
         }
       }
     }
@@ -441,10 +441,109 @@ struct vtkWhittedSceneConverter::Internals
   }
 
   //----------------------------------------------------------------------------
+  // Actors that draw another actor's back faces, as ParaView's backface representation does: a
+  // second actor culling front faces over the same data as one culling back faces. The pair is
+  // traced as one surface whose back material is the second actor's property (two coincident
+  // surfaces would hide each other's faces). BackfacePartners maps the front actor to its partner
+  // and the partner to null (not traced itself).
+  std::map<vtkActor*, vtkActor*> BackfacePartners;
+
+  void MatchBackfacePartners(const std::vector<Leaf>& leaves)
+  {
+    this->BackfacePartners.clear();
+    auto culls = [](vtkActor* a, bool back)
+    {
+      vtkProperty* p = a->GetProperty();
+      return p->GetRepresentation() == VTK_SURFACE && p->GetBackfaceCulling() == (back ? 1 : 0) &&
+        p->GetFrontfaceCulling() == (back ? 0 : 1);
+    };
+    std::map<vtkDataObject*, vtkActor*> frontOnly;
+    for (const Leaf& leaf : leaves)
+    {
+      if (leaf.Matrix == nullptr && culls(leaf.Actor, true))
+      {
+        frontOnly.emplace(leaf.Actor->GetMapper()->GetInputDataObject(0, 0), leaf.Actor);
+      }
+    }
+    for (const Leaf& leaf : leaves)
+    {
+      if (leaf.Matrix != nullptr || !culls(leaf.Actor, false))
+      {
+        continue;
+      }
+      auto it = frontOnly.find(leaf.Actor->GetMapper()->GetInputDataObject(0, 0));
+      if (it != frontOnly.end() && it->first && !this->BackfacePartners.count(it->second) &&
+        SameMatrix(leaf.Actor, it->second))
+      {
+        this->BackfacePartners[it->second] = leaf.Actor;
+        this->BackfacePartners[leaf.Actor] = nullptr;
+      }
+    }
+  }
+
+  static bool SameMatrix(vtkActor* a, vtkActor* b)
+  {
+    vtkMatrix4x4* ma = a->GetMatrix();
+    vtkMatrix4x4* mb = b->GetMatrix();
+    for (int i = 0; i < 16; ++i)
+    {
+      if (ma->GetData()[i] != mb->GetData()[i])
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  //----------------------------------------------------------------------------
+  // The front and back materials of one actor piece; false if the back faces use the front's.
+  // Face culling makes the culled side pass rays unchanged (vtkWhittedMaterials::Culled); the back
+  // faces use the BackfaceProperty or, for a ParaView backface pair, the partner's property.
+  bool FaceMaterials(vtkActor* actor, const vtkWhittedMaterials::BlockAttributes& block,
+    bool scalarColors, int texture, whitted::Material& front, whitted::Material& back)
+  {
+    vtkProperty* p = actor->GetProperty();
+    front = vtkWhittedMaterials::Convert(
+      actor, block, scalarColors, texture, this->LightsOn, this->Warnings);
+    auto convertBack = [&](vtkProperty* bp, vtkProperty* shader)
+    {
+      return vtkWhittedMaterials::ConvertBackface(
+        actor, bp, shader, block, scalarColors, texture, this->LightsOn, this->Warnings);
+    };
+    const bool cullBack = p->GetBackfaceCulling(), cullFront = p->GetFrontfaceCulling();
+    if (cullBack)
+    {
+      auto partner = this->BackfacePartners.find(actor);
+      back = partner != this->BackfacePartners.end() && partner->second
+        ? convertBack(partner->second->GetProperty(), partner->second->GetProperty())
+        : vtkWhittedMaterials::Culled();
+      if (cullFront)
+      {
+        front = vtkWhittedMaterials::Culled();
+      }
+      return true;
+    }
+    vtkProperty* bp = actor->GetBackfaceProperty();
+    if (bp)
+    {
+      back = convertBack(bp, p);
+    }
+    if (cullFront)
+    {
+      if (!bp)
+      {
+        back = front;
+      }
+      front = vtkWhittedMaterials::Culled();
+    }
+    return bp || cullFront;
+  }
+
+  //----------------------------------------------------------------------------
   // The instance of one object for one actor piece: its slot from the last frame (transform and
   // object updated only if they changed), a freed slot, or a new one.
-  void PlaceInstance(
-    const InstanceKey& key, uint32_t object, const Mat4& matrix, const whitted::Material& material)
+  void PlaceInstance(const InstanceKey& key, uint32_t object, const Mat4& matrix,
+    const whitted::Material& material, const whitted::Material* back = nullptr)
   {
     auto it = this->Instances.find(key);
     if (it == this->Instances.end())
@@ -468,6 +567,7 @@ struct vtkWhittedSceneConverter::Internals
       slot.Object = object;
       slot.Matrix = matrix;
       slot.LastFrame = this->Frame;
+      this->SetBackMaterial(slot, back);
       this->Instances.emplace(key, slot);
       return;
     }
@@ -484,6 +584,34 @@ struct vtkWhittedSceneConverter::Internals
       slot.Matrix = matrix;
     }
     this->Scene.material(slot.Material) = material;
+    this->SetBackMaterial(slot, back);
+  }
+
+  //----------------------------------------------------------------------------
+  // The back-face material of an instance (its actor's BackfaceProperty, or none): a material slot
+  // of its own that the front material names (whitted::Material::backMaterial). Kept with the
+  // instance slot and reused.
+  void SetBackMaterial(InstanceSlot& slot, const whitted::Material* back)
+  {
+    if (!back)
+    {
+      this->Scene.material(slot.Material).backMaterial = -1;
+      return;
+    }
+    if (slot.BackMaterial < 0)
+    {
+      if (!this->FreeBackMaterials.empty())
+      {
+        slot.BackMaterial = this->FreeBackMaterials.back();
+        this->FreeBackMaterials.pop_back();
+      }
+      else
+      {
+        slot.BackMaterial = static_cast<int32_t>(this->Scene.addMaterial(*back));
+      }
+    }
+    this->Scene.material(static_cast<uint32_t>(slot.BackMaterial)) = *back;
+    this->Scene.material(slot.Material).backMaterial = slot.BackMaterial;
   }
 
   // Hides the instances this frame did not place; their slots are reused by later ones.
@@ -495,6 +623,10 @@ struct vtkWhittedSceneConverter::Internals
       {
         this->Scene.setInstanceVisible(it->second.Instance, false);
         this->FreeInstances.emplace_back(it->second.Instance, it->second.Material);
+        if (it->second.BackMaterial >= 0)
+        {
+          this->FreeBackMaterials.push_back(it->second.BackMaterial);
+        }
         it = this->Instances.erase(it);
       }
       else
@@ -561,6 +693,7 @@ void vtkWhittedSceneConverter::Update(
 
   // Actors; those found to need OpenGL go to the OpenGL list (if the render state has them)
   const std::unordered_set<vtkProp*> inState(props, props + count);
+  in.MatchBackfacePartners(leaves);
   for (const Leaf& leaf : leaves)
   {
     if (in.ConvertActor(leaf, result.GeometriesConverted))

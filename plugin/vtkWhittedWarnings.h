@@ -47,7 +47,6 @@ public:
 
     // Property settings the tracer does not honour
     PBRInterpolation = 1u << 9,
-    FaceCulling = 1u << 10,
     UntraceableAssemblyPart = 1u << 11,
 
     // Actor matrices the tracer cannot use (the actor is not drawn)

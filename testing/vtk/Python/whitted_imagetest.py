@@ -1,4 +1,5 @@
 """Shared helpers of the Python image tests: an offscreen render of one renderer and its framebuffer as numpy."""
+import numpy as np
 from vtkmodules.vtkRenderingCore import vtkRenderWindow, vtkWindowToImageFilter
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
 from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -34,3 +35,18 @@ def offscreen_render(ren, size, render_pass=None, after=None):
     win.RemoveRenderer(ren)
     win.Finalize()
     return image, extra
+
+
+def edge_mask(rgb):
+    """Pixels of a reddish edge colour (red above 120, blue below half of it) in an RGB image."""
+    return (rgb[:, :, 0] > 120) & (rgb[:, :, 2] < 0.5 * rgb[:, :, 0])
+
+
+def near(mask, other):
+    """Share of mask's pixels within one pixel (8-neighbourhood) of a pixel of other (boolean images)."""
+    grown = other.copy()
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            grown |= np.roll(np.roll(other, dy, 0), dx, 1)
+    return (mask & grown).sum() / max(1, mask.sum())
+
