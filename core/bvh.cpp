@@ -1071,4 +1071,18 @@ void Bvh::refit(const std::vector<Bounds3>& boxes) {
   bounds_ = toBounds(Refitter<LeafOrderBoxes>{wide_, leafBox}.all(pool), anchor_);
 }
 
+double Bvh::sahCost() const {
+  const double rootArea = bounds_.halfArea();
+  if (wide_.empty() || !(rootArea > 0.0) || !std::isfinite(rootArea)) return 0.0;
+  // The root is always entered; below it each child by its area (node boxes are anchored: areas do not move)
+  double cost = 1.0;
+  for (const BvhWideNode& n : wide_)
+    for (int c = 0; c < 4; ++c) {
+      if (n.count[c] == BvhWideNode::kEmpty) continue;
+      const Bounds3 b{Vec3(n.b[0][c], n.b[1][c], n.b[2][c]), Vec3(n.b[3][c], n.b[4][c], n.b[5][c])};
+      cost += b.halfArea() / rootArea * (n.count[c] > 0 ? double(n.count[c]) : 1.0);
+    }
+  return cost;
+}
+
 }  // namespace whitted

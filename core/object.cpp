@@ -28,6 +28,7 @@ std::size_t rebuildShape(Object& o, typename Shape::Geometry& g) {
   BvhBuildOptions opt;
   opt.quality = o.replaced ? BvhBuildQuality::Fast : BvhBuildQuality::Sah;
   o.bvh.build(boxes, centroids, opt);
+  o.builtCost = o.bvh.sahCost();
 
   // Leaf order of every primitive (only needed when some are left out: otherwise it is the BVH's own order)
   o.primOrder.clear();
@@ -84,6 +85,12 @@ void Object::markForRebuild() {
     g = originalGeometry<G>();
   });
   dirty = replaced = true;
+}
+
+std::size_t Object::memoryBytes() const {
+  const std::size_t geometryBytes =
+      visitShape(*this, [](auto shape, const auto& g) { return decltype(shape)::bytes(g); });
+  return geometryBytes + bvh.memoryBytes() + primOrder.capacity() * sizeof(uint32_t);
 }
 
 std::size_t Object::rebuild() {
