@@ -251,7 +251,8 @@ TEST_P(BvhQuality, RefitFollowsMovedPrimitives) {
   expectClosestHitsMatch(bvh, tris, 8);
 }
 
-// Refit on the build's own boxes reproduces the built boxes bit for bit (same outward rounding).
+// Refit on the build's own boxes, given by primitive or in leaf order, reproduces the built boxes bit for bit (same
+// outward rounding).
 TEST_P(BvhQuality, RefitOnSameBoxesChangesNothing) {
   auto boxes = randomBoxes(50000, 9);
   Bvh built, refitted;
@@ -260,6 +261,12 @@ TEST_P(BvhQuality, RefitOnSameBoxesChangesNothing) {
   refitted.refit(boxes);
   EXPECT_TRUE(sameTree(built, refitted));
   EXPECT_THROW(refitted.refit(std::vector<Bounds3>(boxes.begin(), boxes.end() - 1)), std::invalid_argument);
+  // The same boxes given in leaf order
+  std::vector<Bounds3> leafOrder;
+  for (uint32_t p : built.primIndices()) leafOrder.push_back(boxes[p]);
+  Bvh fromLeafOrder = built;
+  fromLeafOrder.refitLeafOrder(leafOrder);
+  EXPECT_TRUE(sameTree(built, fromLeafOrder));
 }
 
 INSTANTIATE_TEST_SUITE_P(Bvh, BvhQuality, testing::Values(BvhBuildQuality::Sah, BvhBuildQuality::Fast),
