@@ -851,14 +851,15 @@ Bounds3 toBounds(const Box4& b, const Vec3& anchor) {
 /// depth-first walk waited on one cache miss after another (most of a Morton build's time).
 struct LeafOrderBoxes {
   ScratchArray<Box4> box;
-  LeafOrderBoxes(const std::vector<Bounds3>& boxes, const std::vector<uint32_t>& prims, const Vec3& anchor,
-                 WorkerPool& pool)
-      : box(prims.size()) {
-    const uint32_t n = uint32_t(prims.size());
+  /// boxes[prims[i]] is leaf slot i's box; prims null: boxes are in leaf order already (no gather).
+  LeafOrderBoxes(const std::vector<Bounds3>& boxes, const uint32_t* prims, const Vec3& anchor, WorkerPool& pool)
+      : box(boxes.size()) {
+    const uint32_t n = uint32_t(boxes.size());
     pool.run(chunksOf(n), [&](uint32_t k) {
       for (uint32_t i = k * kChunk, e = std::min(n, i + kChunk); i < e; ++i) {
-        if (i + 16 < n) _mm_prefetch(reinterpret_cast<const char*>(&boxes[prims[i + 16]]), _MM_HINT_T0);
-        new (&box[i]) Box4(roundedBox(boxes[prims[i]], anchor));
+        const uint32_t p = prims ? prims[i] : i;
+        if (prims && i + 16 < n) _mm_prefetch(reinterpret_cast<const char*>(&boxes[prims[i + 16]]), _MM_HINT_T0);
+        new (&box[i]) Box4(roundedBox(boxes[p], anchor));
       }
     });
   }
@@ -960,7 +961,7 @@ BuiltTree buildMorton(const std::vector<Bounds3>& boxes, const std::vector<Vec3>
   BuiltTree t;
   t.depth = buildAll(s, root, pool, wide);
   // Node boxes: a refit over the primitives' boxes in leaf order
-  const LeafOrderBoxes leafBox(boxes, primIndices, anchor, pool);
+  const LeafOrderBoxes leafBox(boxes, primIndices.data(), anchor, pool);
   t.bounds = toBounds(Refitter<LeafOrderBoxes>{wide, leafBox}.all(pool), anchor);
   return t;
 }
@@ -1057,11 +1058,33 @@ void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& cent
 }
 
 void Bvh::refit(const std::vector<Bounds3>& boxes) {
+  refitFrom(boxes, true);
+}
+
+void Bvh::refitLeafOrder(const std::vector<Bounds3>& leafBoxes) {
+  refitFrom(leafBoxes, false);
+}
+
+void Bvh::refitFrom(const std::vector<Bounds3>& boxes, bool gather) {
   if (boxes.size() != primIndices_.size()) throw std::invalid_argument("Bvh::refit: primitive count differs");
   if (wide_.empty()) return;
   WorkerPool pool(buildThreads(BvhBuildOptions(), boxes.size()));
-  const LeafOrderBoxes leafBox(boxes, primIndices_, anchor_, pool);
+  const LeafOrderBoxes leafBox(boxes, gather ? primIndices_.data() : nullptr, anchor_, pool);
   bounds_ = toBounds(Refitter<LeafOrderBoxes>{wide_, leafBox}.all(pool), anchor_);
+}
+
+double Bvh::sahCost() const {
+  const double rootArea = bounds_.halfArea();
+  if (wide_.empty() || !(rootArea > 0.0) || !std::isfinite(rootArea)) return 0.0;
+  // The root is always entered; below it each child by its area (node boxes are anchored: areas do not move)
+  double cost = 1.0;
+  for (const BvhWideNode& n : wide_)
+    for (int c = 0; c < 4; ++c) {
+      if (n.count[c] == BvhWideNode::kEmpty) continue;
+      const Bounds3 b{Vec3(n.b[0][c], n.b[1][c], n.b[2][c]), Vec3(n.b[3][c], n.b[4][c], n.b[5][c])};
+      cost += b.halfArea() / rootArea * (n.count[c] > 0 ? double(n.count[c]) : 1.0);
+    }
+  return cost;
 }
 
 }  // namespace whitted

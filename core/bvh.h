@@ -148,6 +148,15 @@ class Bvh {
   /// rounded outward exactly as build() rounds them, so traversal stays conservative; the tree's quality decays
   /// with the motion (rebuild when it matters). Throws std::invalid_argument if the count differs.
   void refit(const std::vector<Bounds3>& boxes);
+  /// refit() with the boxes in leaf order (leafBoxes[k] bounds primitive primIndices()[k]): saves the gather, for
+  /// callers whose primitives are stored in leaf order.
+  void refitLeafOrder(const std::vector<Bounds3>& leafBoxes);
+  /// The tree's expected trace cost by the surface area heuristic, for a ray crossing the root box: every wide node
+  /// entered costs one (its four box tests), every leaf entered its primitive count, each weighted by the chance
+  /// area(box) / area(root box) that such a ray enters it. 0 for an empty tree or a root box without area. Compares
+  /// trees over the same primitives: after refit(), the ratio to the cost at build time says how much slower the
+  /// refitted tree traces (Object::refit rebuilds beyond kRefitRebuildRatio). Cost: one pass over the nodes.
+  double sahCost() const;
 
   bool empty() const { return wide_.empty(); }
   /// The 4-wide traversal nodes; node 0 is the root, and every child node has a larger index than its parent.
@@ -283,6 +292,9 @@ class Bvh {
       _mm_prefetch(p + std::size_t(count) * leafData.stride - 1, _MM_HINT_T0);
     }
   }
+
+  /// refit() (gather: boxes by original primitive index) and refitLeafOrder() (boxes in leaf order).
+  void refitFrom(const std::vector<Bounds3>& boxes, bool gather);
 
   BvhWideNodes wide_;
   Vec3 anchor_{0.0};  ///< The first finite centroid; node boxes are stored relative to it.

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <optional>
 #include <random>
@@ -117,19 +118,6 @@ BvhBuildOptions withQuality(BvhBuildQuality q, int threads = 0) {
   opt.quality = q;
   opt.threads = threads;
   return opt;
-}
-
-/// Expected cost of a random ray through the tree (surface-area heuristic: node visit 1, primitive test 1).
-double sahCost(const Bvh& bvh) {
-  double cost = 1.0;
-  const double rootArea = bvh.bounds().halfArea();
-  for (const BvhWideNode& n : bvh.nodes())
-    for (int c = 0; c < 4; ++c) {
-      if (n.count[c] == BvhWideNode::kEmpty) continue;
-      Bounds3 b{Vec3(n.b[0][c], n.b[1][c], n.b[2][c]), Vec3(n.b[3][c], n.b[4][c], n.b[5][c])};
-      cost += b.halfArea() / rootArea * (n.count[c] > 0 ? n.count[c] : 1.0);
-    }
-  return cost;
 }
 
 bool sameTree(const Bvh& a, const Bvh& b) {
@@ -263,7 +251,8 @@ TEST_P(BvhQuality, RefitFollowsMovedPrimitives) {
   expectClosestHitsMatch(bvh, tris, 8);
 }
 
-// Refit on the build's own boxes reproduces the built boxes bit for bit (same outward rounding).
+// Refit on the build's own boxes, given by primitive or in leaf order, reproduces the built boxes bit for bit (same
+// outward rounding).
 TEST_P(BvhQuality, RefitOnSameBoxesChangesNothing) {
   auto boxes = randomBoxes(50000, 9);
   Bvh built, refitted;
@@ -272,12 +261,60 @@ TEST_P(BvhQuality, RefitOnSameBoxesChangesNothing) {
   refitted.refit(boxes);
   EXPECT_TRUE(sameTree(built, refitted));
   EXPECT_THROW(refitted.refit(std::vector<Bounds3>(boxes.begin(), boxes.end() - 1)), std::invalid_argument);
+  // The same boxes given in leaf order
+  std::vector<Bounds3> leafOrder;
+  for (uint32_t p : built.primIndices()) leafOrder.push_back(boxes[p]);
+  Bvh fromLeafOrder = built;
+  fromLeafOrder.refitLeafOrder(leafOrder);
+  EXPECT_TRUE(sameTree(built, fromLeafOrder));
 }
 
 INSTANTIATE_TEST_SUITE_P(Bvh, BvhQuality, testing::Values(BvhBuildQuality::Sah, BvhBuildQuality::Fast),
                          [](const testing::TestParamInfo<BvhBuildQuality>& i) {
                            return i.param == BvhBuildQuality::Sah ? "Sah" : "Fast";
                          });
+
+// The SAH cost tracks trace work: a refit on the same boxes keeps the cost, and a refit after the primitives trade
+// places (same topology, scattered boxes) scores several times higher and visits correspondingly more nodes and
+// primitives along random rays. Empty trees cost 0.
+TEST(Bvh, SahCostTracksTraceWork) {
+  EXPECT_EQ(Bvh().sahCost(), 0.0);
+  auto boxes = randomBoxes(20000, 5);
+  Bvh sah;
+  sah.build(boxes, centers(boxes), withQuality(BvhBuildQuality::Sah));
+  const double cost = sah.sahCost();
+  EXPECT_GT(cost, 1.0);
+  Bvh same = sah;
+  same.refit(boxes);
+  EXPECT_EQ(same.sahCost(), cost);
+
+  // Work along random rays: wide nodes visited plus primitives tested
+  auto work = [](const Bvh& bvh) {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> U(-12, 12);
+    uint64_t total = 0;
+    for (int k = 0; k < 2000; ++k) {
+      Ray r;
+      r.origin = Vec3(U(rng), U(rng), U(rng));
+      r.dir = glm::normalize(Vec3(U(rng), U(rng), U(rng)));
+      double tMax = kInfinity;
+      bvh.traverse<false>(
+          r, tMax,
+          [&](uint32_t, uint32_t count, double&) {
+            total += count;
+            return false;
+          },
+          &total);
+    }
+    return double(total);
+  };
+  std::vector<Bounds3> scattered = boxes;
+  std::shuffle(scattered.begin(), scattered.end(), std::mt19937(11));
+  Bvh moved = sah;
+  moved.refit(scattered);
+  EXPECT_GT(moved.sahCost(), 3.0 * cost);
+  EXPECT_GT(work(moved), 3.0 * work(sah));
+}
 
 // Above 32768 primitives large nodes bin and partition in parallel chunks and subtrees are built as tasks on a
 // thread pool (the ThreadSanitizer suite runs this test). The tree is a function of the input only: the same nodes
@@ -326,7 +363,7 @@ TEST(Bvh, SahBuildBeatsFastBuildOnSahCost) {
   Bvh sah, fast;
   sah.build(boxes, cents, withQuality(BvhBuildQuality::Sah));
   fast.build(boxes, cents, withQuality(BvhBuildQuality::Fast));
-  EXPECT_LT(sahCost(sah), 0.95 * sahCost(fast));
+  EXPECT_LT(sah.sahCost(), 0.95 * fast.sahCost());
 }
 
 // Through the scene (two levels, leaf-ordered triangle copies) as well as through the bare tree.

@@ -28,6 +28,7 @@ std::size_t rebuildShape(Object& o, typename Shape::Geometry& g, BvhBuildQuality
   BvhBuildOptions opt;
   opt.quality = quality;
   o.bvh.build(boxes, centroids, opt);
+  o.builtCost = o.bvh.sahCost();
 
   // Leaf order of every primitive (only needed when some are left out: otherwise it is the BVH's own order)
   o.primOrder.clear();
@@ -59,15 +60,16 @@ bool refitShape(Object& o, typename Shape::Geometry& g) {
   const std::size_t n = Shape::count(g);
   const std::vector<uint32_t>& order = o.bvh.primIndices();  // leaf slot -> primitive (all were valid)
   if (!o.primOrder.empty() || order.size() != n) return false;
-  std::vector<Bounds3> boxes(n);
+  // Boxes in leaf order (leaf-ordered geometry is read in its stored order: no scatter, no gather)
+  std::vector<Bounds3> boxes;
+  boxes.reserve(n);
   Bounds3 all, box;
   for (uint32_t k = 0; k < n; ++k) {
-    const uint32_t p = order[k];
-    if (!Shape::bounds(g, Shape::kLeafOrdered ? k : p, box)) return false;
-    boxes[p] = box;
+    if (!Shape::bounds(g, Shape::kLeafOrdered ? k : order[k], box)) return false;
+    boxes.push_back(box);
     all.extend(box);
   }
-  o.bvh.refit(boxes);
+  o.bvh.refitLeafOrder(boxes);
   o.bounds = all;
   return true;
 }
@@ -84,6 +86,12 @@ void Object::markForRebuild() {
     g = originalGeometry<G>();
   });
   dirty = replaced = true;
+}
+
+std::size_t Object::memoryBytes() const {
+  const std::size_t geometryBytes =
+      visitShape(*this, [](auto shape, const auto& g) { return decltype(shape)::bytes(g); });
+  return geometryBytes + bvh.memoryBytes() + primOrder.capacity() * sizeof(uint32_t);
 }
 
 std::size_t Object::rebuild(BvhBuildQuality quality) {

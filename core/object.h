@@ -25,6 +25,12 @@ struct Object {
   /// New positions on the same topology since the last build (see sameTopology): commit refits the BVH.
   bool refitPending = false;
   bool alive = true;
+  /// The BVH's SAH cost (Bvh::sahCost) when it was last built; refits are measured against it.
+  double builtCost = 0.0;
+  /// A refitted BVH whose SAH cost exceeds this many times builtCost is rebuilt (with the fast builder): the
+  /// refit keeps the tree's topology, so primitives that moved apart leave ever larger, overlapping boxes and the
+  /// trace slows down by about this ratio; a fast rebuild costs about one frame's worth of tracing at that point.
+  static constexpr double kRefitRebuildRatio = 1.4;
 
   GeometryType type() const { return GeometryType(geometry.index()); }
   /// Leaf slot -> primitive as given (see primOrder). Valid after a rebuild.
@@ -45,6 +51,10 @@ struct Object {
   /// Recomputes the BVH's boxes bottom-up for the current geometry (same topology, same leaf order). Returns false
   /// and changes nothing if some primitive is no longer valid (then the caller rebuilds).
   bool refit();
+  /// The refitted tree's SAH cost over its cost when built (1 right after a build; 0 if unknown).
+  double refitCostRatio() const { return builtCost > 0.0 ? bvh.sahCost() / builtCost : 0.0; }
+  /// Memory held: geometry, BVH and leaf order (allocated capacity), bytes.
+  std::size_t memoryBytes() const;
   /// Puts leaf-ordered arrays back in the order given and marks the object for a (fast) rebuild.
   void markForRebuild();
   /// True if g's leaf-ordered arrays (given order) equal stored's (leaf order), compared through the leaf order;

@@ -86,6 +86,17 @@ void Scene::removeObject(uint32_t id) {
   topDirty_ = true;
 }
 
+Object Scene::takeObject(uint32_t id) {
+  Object taken = std::move(objects_[id]);
+  removeObject(id);
+  objects_[id].replaced = true;  // the id's next geometry is a replacement (fast builder)
+  return taken;
+}
+void Scene::restoreObject(uint32_t id, Object o) {
+  objects_[id] = std::move(o);
+  topDirty_ = true;
+}
+
 // Instances -------------------------------------------------------------------------------------------------
 
 uint32_t Scene::addInstance(uint32_t object, const Mat4& toWorld, uint32_t material) {
@@ -173,9 +184,15 @@ void Scene::buildObjects(CommitStats& st) {
     if (o.alive && o.refitPending && !o.dirty) {
       o.refitPending = false;
       if (o.refit()) {
-        ++st.objectsRefit;
+        // Keep the refitted tree unless it traces much slower than the one built (SAH cost)
+        const double ratio = o.refitCostRatio();
+        st.refitCostRatio = std::max(st.refitCostRatio, ratio);
         topDirty_ = true;
-        continue;
+        if (ratio <= Object::kRefitRebuildRatio) {
+          ++st.objectsRefit;
+          continue;
+        }
+        ++st.objectsRefitRejected;
       }
       o.markForRebuild();
     }

@@ -42,6 +42,12 @@ struct CommitStats {
   /// Objects whose points moved on unchanged connectivity (a deforming mesh's time step): BVH boxes refit
   /// bottom-up, no rebuild (not counted in objectsRebuilt).
   int objectsRefit = 0;
+  /// Objects refit in this commit whose tree then traced too slowly by the SAH (cost above
+  /// Object::kRefitRebuildRatio times its cost when built): rebuilt with the fast builder instead (counted in
+  /// objectsRebuilt and objectsFastBuilt, not in objectsRefit).
+  int objectsRefitRejected = 0;
+  /// Largest SAH cost ratio (refitted tree / tree when built) over the objects refit in this commit; 0 if none.
+  double refitCostRatio = 0.0;
   bool topLevelRebuilt = false;
   double secondsBuild = 0.0;          ///< Wall time of all BVH builds in this commit.
   std::size_t invalidPrimitives = 0;  ///< Primitives skipped (non-finite or degenerate) in rebuilt objects.
@@ -82,6 +88,15 @@ class Scene {
   /// edited geometry rebuild in about half the SAH build's time, for a tree that traces somewhat slower) or Sah.
   /// New geometry always gets the SAH build.
   void setReplacedBuildQuality(BvhBuildQuality quality) { replacedQuality_ = quality; }
+  /// The object as it stands (geometry in leaf order once committed, BVH, leaf order), e.g. to keep a copy.
+  const Object& object(uint32_t object) const { return objects_[object]; }
+  /// Moves an object out of the scene whole (geometry, BVH, leaf order: a committed one stays committed), leaving
+  /// its id without geometry (as removeObject does) so the id can take other geometry; restoreObject puts it back.
+  /// For time caches: an earlier time step's object kept outside the scene costs no tracing and no statistics.
+  Object takeObject(uint32_t object);
+  /// Puts an object (taken by takeObject, or a copy of object()) at id, replacing what is there. A committed
+  /// object keeps its BVH: nothing is rebuilt; only the top level is (its bounds may differ).
+  void restoreObject(uint32_t object, Object o);
   std::size_t objectCount() const { return objects_.size(); }
   GeometryType objectType(uint32_t object) const { return objects_[object].type(); }
   /// A copy of an object's geometry as given (triangles in their original order; empty if of another shape).

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -18,6 +19,38 @@ Texture solid(int w, uint8_t r, uint8_t g, uint8_t b) {
   t.height = 1;
   for (int i = 0; i < w; ++i) t.rgba.insert(t.rgba.end(), {r, g, b, 255});
   return t;
+}
+
+/// Closest hits of 2000 rays from above through the scene's one mesh equal a brute-force test over mesh.
+void expectHitsMatchBruteForce(const Scene& s, const TriangleMesh& mesh) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> U(-1, 1);
+  int hits = 0;
+  for (int k = 0; k < 2000; ++k) {
+    Ray r;
+    r.origin = Vec3(1.5 * U(rng), 1.5 * U(rng), 4.0);
+    r.dir = glm::normalize(Vec3(0.2 * U(rng), 0.2 * U(rng), -1.0));
+    double best = kInfinity;
+    uint32_t bestPrim = 0;
+    for (uint32_t i = 0; i < mesh.triangles.size(); ++i) {
+      const glm::uvec3& t = mesh.triangles[i];
+      if (!isFinite(mesh.positions[t.x]) || !isFinite(mesh.positions[t.y]) || !isFinite(mesh.positions[t.z])) continue;
+      auto h = intersectTriangle(r, mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z]);
+      if (h && h->t < best) {
+        best = h->t;
+        bestPrim = i;
+      }
+    }
+    Hit h;
+    EXPECT_EQ(s.intersect(r, h), std::isfinite(best));
+    if (std::isfinite(best)) {
+      ++hits;
+      EXPECT_EQ(h.t, best);
+      EXPECT_EQ(h.prim, bestPrim);
+      if (!mesh.triangleColors.empty()) EXPECT_EQ(s.surface(r, h).color, mesh.triangleColors[bestPrim]);
+    }
+  }
+  EXPECT_GT(hits, 500);
 }
 
 }  // namespace
@@ -206,38 +239,6 @@ TEST(Scene, MovedPointsOnSameTrianglesAreRefit) {
   s.addInstance(o, Mat4(1.0), s.addMaterial(Material{}));
   s.commit();
 
-  auto checkAgainstBruteForce = [&](const TriangleMesh& mesh) {
-    std::mt19937 rng(9);
-    std::uniform_real_distribution<double> U(-1, 1);
-    int hits = 0;
-    for (int k = 0; k < 2000; ++k) {
-      Ray r;
-      r.origin = Vec3(1.5 * U(rng), 1.5 * U(rng), 4.0);
-      r.dir = glm::normalize(Vec3(0.2 * U(rng), 0.2 * U(rng), -1.0));
-      double best = kInfinity;
-      uint32_t bestPrim = 0;
-      for (uint32_t i = 0; i < mesh.triangles.size(); ++i) {
-        const glm::uvec3& t = mesh.triangles[i];
-        if (!isFinite(mesh.positions[t.x]) || !isFinite(mesh.positions[t.y]) || !isFinite(mesh.positions[t.z]))
-          continue;
-        auto h = intersectTriangle(r, mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z]);
-        if (h && h->t < best) {
-          best = h->t;
-          bestPrim = i;
-        }
-      }
-      Hit h;
-      EXPECT_EQ(s.intersect(r, h), std::isfinite(best));
-      if (std::isfinite(best)) {
-        ++hits;
-        EXPECT_EQ(h.t, best);
-        EXPECT_EQ(h.prim, bestPrim);
-        EXPECT_EQ(s.surface(r, h).color, mesh.triangleColors[bestPrim]);
-      }
-    }
-    EXPECT_GT(hits, 500);
-  };
-
   // A wave over the sphere and a shift: every box moves
   for (Vec3& p : m.positions) p = p * (1.0 + 0.2 * std::sin(3.0 * p.y)) + Vec3(0.3, -0.2, 0.1);
   for (std::size_t i = 0; i < m.triangleColors.size(); ++i) m.triangleColors[i] = Color4(float(i % 7) / 7.0f, 0, 0, 1);
@@ -246,7 +247,7 @@ TEST(Scene, MovedPointsOnSameTrianglesAreRefit) {
   EXPECT_EQ(st.objectsRefit, 1);
   EXPECT_EQ(st.objectsRebuilt, 0);
   EXPECT_TRUE(st.topLevelRebuilt);
-  checkAgainstBruteForce(m);
+  expectHitsMatchBruteForce(s, m);
   EXPECT_EQ(s.mesh(o).triangles, m.triangles);  // the order given, as before
 
   m.positions[3].x = kInfinity;  // its triangles become invalid: rebuilt instead
@@ -255,5 +256,67 @@ TEST(Scene, MovedPointsOnSameTrianglesAreRefit) {
   EXPECT_EQ(st.objectsRefit, 0);
   EXPECT_EQ(st.objectsRebuilt, 1);
   EXPECT_GT(st.invalidPrimitives, 0u);
-  checkAgainstBruteForce(m);
+  expectHitsMatchBruteForce(s, m);
+}
+
+// A refit whose tree would trace much slower (points that trade places: every triangle now spans the sphere, the
+// kept topology groups far-apart triangles) is rebuilt instead; a gentle deformation keeps its refit. Hits stay
+// exact either way.
+TEST(Scene, RefitThatTracesTooSlowlyIsRebuilt) {
+  Scene s;
+  TriangleMesh m = makeSphereMesh(Vec3(0.0), 1.0, 48, 24);
+  uint32_t o = s.addMesh(m);
+  s.addInstance(o, Mat4(1.0), s.addMaterial(Material{}));
+  s.commit();
+
+  for (Vec3& p : m.positions) p *= 1.0 + 0.05 * std::sin(4.0 * p.x);
+  EXPECT_TRUE(s.updateMesh(o, m));
+  CommitStats st = s.commit();
+  EXPECT_EQ(st.objectsRefit, 1);
+  EXPECT_EQ(st.objectsRefitRejected, 0);
+  EXPECT_GT(st.refitCostRatio, 0.5);
+  EXPECT_LE(st.refitCostRatio, Object::kRefitRebuildRatio);
+  expectHitsMatchBruteForce(s, m);
+
+  std::shuffle(m.positions.begin(), m.positions.end(), std::mt19937(4));
+  EXPECT_TRUE(s.updateMesh(o, m));
+  st = s.commit();
+  EXPECT_EQ(st.objectsRefit, 0);
+  EXPECT_EQ(st.objectsRefitRejected, 1);
+  EXPECT_GT(st.refitCostRatio, Object::kRefitRebuildRatio);
+  EXPECT_EQ(st.objectsRebuilt, 1);
+  EXPECT_EQ(st.objectsFastBuilt, 1);
+  expectHitsMatchBruteForce(s, m);
+  EXPECT_NEAR(s.object(o).refitCostRatio(), 1.0, 1e-12);  // a fresh tree
+}
+
+// An object taken out of the scene (a time cache keeping an earlier step) leaves its id free for other geometry,
+// and restored later it needs no rebuild: the same hits as before, only the top level is rebuilt.
+TEST(Scene, TakenObjectIsRestoredWithoutRebuild) {
+  Scene s;
+  TriangleMesh first = makeSphereMesh(Vec3(0.0), 1.0, 24, 12);
+  uint32_t o = s.addMesh(first);
+  s.addInstance(o, Mat4(1.0), s.addMaterial(Material{}));
+  s.commit();
+  Object kept = s.takeObject(o);
+  EXPECT_EQ(s.stats().triangles, 0u);
+
+  TriangleMesh second = makeSphereMesh(Vec3(0.3, 0, 0), 1.1, 10, 5);  // another step: other topology
+  s.setMesh(o, second);
+  CommitStats st = s.commit();
+  EXPECT_EQ(st.objectsRebuilt, 1);
+  EXPECT_EQ(st.objectsFastBuilt, 1);  // the id had geometry before: a replacement
+  expectHitsMatchBruteForce(s, second);
+
+  Object copy = s.object(o);  // keep this step too (a copy), then bring the first back
+  s.restoreObject(o, std::move(kept));
+  st = s.commit();
+  EXPECT_EQ(st.objectsRebuilt, 0);
+  EXPECT_EQ(st.objectsRefit, 0);
+  EXPECT_TRUE(st.topLevelRebuilt);
+  expectHitsMatchBruteForce(s, first);
+  EXPECT_EQ(s.mesh(o).triangles, first.triangles);
+  s.restoreObject(o, std::move(copy));
+  EXPECT_EQ(s.commit().objectsRebuilt, 0);
+  expectHitsMatchBruteForce(s, second);
 }

@@ -17,6 +17,9 @@ void vtkWhittedFrameStatistics::Reset()
   this->NumberOfGeometriesConverted = this->NumberOfObjectsRebuilt = this->NumberOfObjectsRefit = 0;
   this->TopLevelRebuilt = false;
   this->NumberOfTracedActors = this->NumberOfOpenGLProps = 0;
+  this->NumberOfRefitsRejected = this->NumberOfTimeCacheHits = this->NumberOfTimeCacheEntries = 0;
+  this->RefitCostRatio = 0.0;
+  this->TimeCacheBytes = 0;
   this->NumberOfSafetyNetCatches = 0;
   for (int k = 0; k < 3; ++k)
   {
@@ -57,6 +60,11 @@ void vtkWhittedFrameStatistics::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TopLevelRebuilt: " << this->TopLevelRebuilt << "\n";
   os << indent << "NumberOfTracedActors: " << this->NumberOfTracedActors << "\n";
   os << indent << "NumberOfOpenGLProps: " << this->NumberOfOpenGLProps << "\n";
+  os << indent << "NumberOfRefitsRejected: " << this->NumberOfRefitsRejected << "\n";
+  os << indent << "RefitCostRatio: " << this->RefitCostRatio << "\n";
+  os << indent << "NumberOfTimeCacheHits: " << this->NumberOfTimeCacheHits << "\n";
+  os << indent << "NumberOfTimeCacheEntries: " << this->NumberOfTimeCacheEntries << "\n";
+  os << indent << "TimeCacheBytes: " << this->TimeCacheBytes << "\n";
   os << indent << "NumberOfSafetyNetCatches: " << this->NumberOfSafetyNetCatches << "\n";
   const double* errors[3] = { this->TruncationError, this->SamplingError, this->EstimatedError };
   const char* names[3] = { "TruncationError", "SamplingError", "EstimatedError" };

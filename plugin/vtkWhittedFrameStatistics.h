@@ -83,6 +83,21 @@ public:
   vtkGetMacro(NumberOfOpenGLProps, int);
   ///@}
 
+  ///@{
+  /**
+   * Time series: refits whose tree would trace too slowly (its SAH cost grew beyond 1.4 times the
+   * cost of the tree when built: rebuilt instead, and counted in NumberOfObjectsRebuilt), the
+   * largest SAH cost ratio (refitted tree / built tree) of this frame's refits (0 without
+   * refits); geometries restored from the pass's time cache (converted and built earlier, nothing
+   * converted or built now), and what the time cache holds after the frame (geometries, bytes).
+   */
+  vtkGetMacro(NumberOfRefitsRejected, int);
+  vtkGetMacro(RefitCostRatio, double);
+  vtkGetMacro(NumberOfTimeCacheHits, int);
+  vtkGetMacro(NumberOfTimeCacheEntries, int);
+  vtkGetMacro(TimeCacheBytes, vtkTypeUInt64);
+  ///@}
+
   /**
    * Safety nets: camera samples and pixels with a non-finite value that was zeroed, and alpha or
    * depth values outside [0, 1] that were clamped. Zero for valid input, and also for bad input
@@ -168,6 +183,11 @@ protected:
   bool TopLevelRebuilt = false;
   int NumberOfTracedActors = 0;
   int NumberOfOpenGLProps = 0;
+  int NumberOfRefitsRejected = 0;
+  double RefitCostRatio = 0.0;
+  int NumberOfTimeCacheHits = 0;
+  int NumberOfTimeCacheEntries = 0;
+  vtkTypeUInt64 TimeCacheBytes = 0;
   vtkTypeUInt64 NumberOfSafetyNetCatches = 0;
   double TruncationError[3] = { 0.0, 0.0, 0.0 };
   double SamplingError[3] = { 0.0, 0.0, 0.0 };

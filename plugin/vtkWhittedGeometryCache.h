@@ -17,6 +17,19 @@
  *   reused by later geometries.
  * - vtkDataSetMapper inputs that are not polydata go through a vtkDataSetSurfaceFilter kept per
  *   mapper (GetSurface), as that mapper does itself.
+ * - A geometry whose input is a new data object (ParaView hands each time step's data to the
+ *   mapper as a new object) takes over the objects of the mapper's geometry for the same piece that
+ *   this frame has not used yet: its BVH is refit when only points moved.
+ *
+ * Time cache (SetTimeCacheLimit): the converted objects of a geometry's earlier inputs (earlier
+ * time steps, earlier contour values) are kept outside the scene, keyed by a fingerprint of the
+ * input's contents (points, cells, every point, cell and field array) and of the mapper state the
+ * conversion reads (scalar mode, array, colour mode, lookup table and its MTime, range, radius
+ * scale). An input whose fingerprint matches a kept entry gets that entry's objects back with
+ * their BVHs: nothing is converted or built (a time cache hit). Keyed by contents, not by time, a
+ * hit cannot show stale data: an upstream edit changes the fingerprint. Entries are dropped
+ * least recently used first to stay within the limit and to leave a tenth of the machine's
+ * memory available, and with their mapper.
  *
  * @sa vtkWhittedSceneConverter vtkWhittedPolyDataConverter vtkWhittedTextureCache
  */
@@ -27,8 +40,10 @@
 #include "vtkSmartPointer.h"             // for vtkSmartPointer
 #include "vtkWhittedPolyDataConverter.h" // for Options, Problems
 
+#include <cstdint>    // for uint64_t
 #include <functional> // for std::function
 #include <map>        // for std::map
+#include <memory>     // for std::unique_ptr
 #include <vector>     // for std::vector
 
 class vtkDataObject;
@@ -68,22 +83,41 @@ public:
     whitted::Vec3 Origin{ 0.0 }; ///< The objects' coordinates are relative to this point.
 
     vtkMTimeType Stamp = 0;
+    vtkDataObject* Data = nullptr; ///< The input the stamp was taken of.
+    int Piece = 0;                 ///< Index of the input among the actor's pieces (blocks).
     unsigned long LastFrame = 0;
+    /// Fingerprints of the contents now held (time cache key; valid if Fingerprinted).
+    uint64_t ContentPrint = 0, StatePrint = 0;
+    bool Fingerprinted = false;
+  };
+
+  /// What the time cache did in this frame and holds.
+  struct TimeCacheCounts
+  {
+    int Hits = 0;          ///< Geometries restored from the time cache in this frame.
+    int Entries = 0;       ///< Geometries kept.
+    std::size_t Bytes = 0; ///< Their memory (geometry and BVHs).
   };
 
   vtkWhittedGeometryCache(whitted::Scene& scene, vtkWhittedTextureCache& textures);
+  ~vtkWhittedGeometryCache();
 
   /// Starts a frame: what is not used from here to FreeUnused() is freed then.
-  void BeginFrame() { ++this->Frame; }
+  void BeginFrame();
 
   /**
-   * The geometry mapper draws from poly with options, converted again if anything it depends on
-   * changed (then converted is incremented). radiusScale (called only when converting) turns
+   * The geometry mapper draws from poly (piece number piece of the actor) with options, converted
+   * again if anything it depends on changed (then converted is incremented), or restored from the
+   * time cache. radiusScale (called only when converting or fingerprinting spheres and tubes) turns
    * PointSize and LineWidth into object-space radii.
    */
-  const Geometry& Get(vtkMapper* mapper, vtkPolyData* poly,
+  const Geometry& Get(vtkMapper* mapper, vtkPolyData* poly, int piece,
     const vtkWhittedPolyDataConverter::Options& options, const std::function<double()>& radiusScale,
     int& converted);
+
+  /// Memory the time cache may hold, bytes; 0 turns it off (and frees what it holds).
+  void SetTimeCacheLimit(std::size_t bytes);
+  TimeCacheCounts GetTimeCacheCounts() const;
 
   /// The outer surface of a dataset drawn by a vtkDataSetMapper (a filter kept per mapper).
   vtkPolyData* GetSurface(vtkMapper* mapper, vtkDataSet* dataset);
@@ -112,6 +146,16 @@ private:
   // when only attributes changed), a freed one, or a new one; returns the object id.
   uint32_t StoreObject(int existing, int kind, vtkWhittedPolyDataConverter::Primitives& primitives);
   void FreeObject(int& id);
+  // The geometry of key, or the mapper's unused geometry of the same piece and options (adopted
+  // under key), or a new one.
+  Geometry& Find(const Key& key, int piece);
+  // Time cache: moves (or, when next may refit them, copies) the objects g holds into the cache
+  // under g's fingerprints; next is the conversion about to replace them (null: none).
+  void Keep(const Key& key, Geometry& g, const vtkWhittedPolyDataConverter::Primitives* next);
+  // Gives g the kept objects of these fingerprints (what g holds is kept in turn); false if none.
+  bool Restore(const Key& key, Geometry& g, uint64_t statePrint, uint64_t contentPrint);
+
+  struct TimeCache;
 
   whitted::Scene& Scene;
   vtkWhittedTextureCache& Textures;
@@ -119,6 +163,7 @@ private:
   std::map<Key, Geometry> Geometries;
   std::map<vtkMapper*, Surface> Surfaces;
   std::vector<uint32_t> FreeObjects;
+  std::unique_ptr<TimeCache> Kept;
 };
 
 #endif

@@ -207,6 +207,7 @@ void vtkWhittedPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TargetError: " << this->TargetError << "\n";
   os << indent << "TimeBudget: " << this->TimeBudget << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "TimeCacheMemory: " << this->TimeCacheMemory << "\n";
   os << indent << "Interactive: " << this->Interactive << "\n";
   os << indent << "InteractiveMaxDepth: " << this->InteractiveMaxDepth << "\n";
   os << indent << "InteractiveShadows: " << this->InteractiveShadows << "\n";
@@ -289,6 +290,7 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
   {
     // Scene conversion (cached)
     converter = &in->ConverterFor(ren);
+    converter->SetTimeCacheLimit(static_cast<std::size_t>(this->TimeCacheMemory) << 20);
     converter->Update(ren, s->GetPropArray(), s->GetPropArrayCount(), this, r.Conversion);
     r.ConversionTime = SecondsSince(start);
 
@@ -466,6 +468,11 @@ void vtkWhittedPassInternals::RecordStatistics(
   st->NumberOfGeometriesConverted = r.Conversion.GeometriesConverted;
   st->NumberOfObjectsRebuilt = r.Commit.objectsRebuilt;
   st->NumberOfObjectsRefit = r.Commit.objectsRefit;
+  st->NumberOfRefitsRejected = r.Commit.objectsRefitRejected;
+  st->RefitCostRatio = r.Commit.refitCostRatio;
+  st->NumberOfTimeCacheHits = r.Conversion.TimeCacheHits;
+  st->NumberOfTimeCacheEntries = r.Conversion.TimeCacheEntries;
+  st->TimeCacheBytes = r.Conversion.TimeCacheBytes;
   st->TopLevelRebuilt = r.Commit.topLevelRebuilt;
   st->NumberOfTracedActors = r.Conversion.TracedActors;
   st->NumberOfOpenGLProps = static_cast<int>(r.Conversion.OpenGLProps.size());
@@ -494,6 +501,12 @@ void vtkWhittedPassInternals::RecordStatistics(
     "converted), %d props drawn by OpenGL\n",
     r.CompositeTime * 1e3, totalTime * 1e3, r.Conversion.TracedActors,
     r.Conversion.GeometriesConverted, st->NumberOfOpenGLProps);
+  report += line;
+  std::snprintf(line, sizeof line,
+    "  time cache       %d hits; holds %d geometries, %.1f MB (limit %d MB)\n",
+    r.Conversion.TimeCacheHits, r.Conversion.TimeCacheEntries,
+    static_cast<double>(r.Conversion.TimeCacheBytes) / (1 << 20),
+    this->Parent->GetTimeCacheMemory());
   report += line;
 }
 

@@ -90,6 +90,11 @@ public:
    * estimate (GetLastErrorImage): samples go where the estimated sampling error is largest until
    * the estimated error's RMS is at most TargetError or TimeBudget seconds of tracing are spent.
    * NumberOfThreads: tracing threads; 0 = every core the process may run on.
+   * TimeCacheMemory: megabytes for the converted geometry and BVHs of earlier inputs of the same
+   * objects (earlier time steps), kept so that showing them again converts and builds nothing
+   * (statistics: GetNumberOfTimeCacheHits); 0 = off. Unlike a cache keyed by time, entries are
+   * keyed by a fingerprint of the data's contents and the mapper's colouring state, so an
+   * upstream edit never shows stale geometry.
    */
   vtkSetClampMacro(
     MaxDepth, int, vtkWhittedSettings::MaxDepth.Minimum, vtkWhittedSettings::MaxDepth.Maximum);
@@ -124,6 +129,9 @@ public:
   vtkSetClampMacro(NumberOfThreads, int, vtkWhittedSettings::NumberOfThreads.Minimum,
     vtkWhittedSettings::NumberOfThreads.Maximum);
   vtkGetMacro(NumberOfThreads, int);
+  vtkSetClampMacro(TimeCacheMemory, int, vtkWhittedSettings::TimeCacheMemory.Minimum,
+    vtkWhittedSettings::TimeCacheMemory.Maximum);
+  vtkGetMacro(TimeCacheMemory, int);
   ///@}
 
   ///@{
@@ -240,6 +248,7 @@ protected:
   double TargetError = vtkWhittedSettings::TargetError.Default;
   double TimeBudget = vtkWhittedSettings::TimeBudget.Default;
   int NumberOfThreads = vtkWhittedSettings::NumberOfThreads.Default;
+  int TimeCacheMemory = vtkWhittedSettings::TimeCacheMemory.Default;
   bool Interactive = false;
   int InteractiveMaxDepth = vtkWhittedSettings::InteractiveMaxDepth.Default;
   bool InteractiveShadows = vtkWhittedSettings::InteractiveShadows.Default;

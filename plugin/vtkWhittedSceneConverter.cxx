@@ -415,8 +415,8 @@ struct vtkWhittedSceneConverter::Internals
     }
     for (size_t i = 0; i < pieces.size(); ++i)
     {
-      const vtkWhittedGeometryCache::Geometry& g =
-        this->Geometries.Get(mapper, pieces[i].Poly, opts, radiusScaleFn, converted);
+      const vtkWhittedGeometryCache::Geometry& g = this->Geometries.Get(
+        mapper, pieces[i].Poly, static_cast<int>(i), opts, radiusScaleFn, converted);
       this->Warnings.WarnProblems(actor, p, g.Issues, pieces.size() > 1 ? static_cast<int>(i) : -1);
       const bool scalarColors = g.ScalarColors || g.ColorCoords;
       const int texture = actorTexture >= 0 && g.TCoords ? actorTexture : -1;
@@ -655,6 +655,11 @@ void vtkWhittedSceneConverter::Reset()
   this->Impl->Clear();
 }
 
+void vtkWhittedSceneConverter::SetTimeCacheLimit(std::size_t bytes)
+{
+  this->Impl->Geometries.SetTimeCacheLimit(bytes);
+}
+
 //------------------------------------------------------------------------------
 void vtkWhittedSceneConverter::Update(
   vtkRenderer* ren, vtkProp** props, int count, vtkObject* owner, Result& result)
@@ -710,4 +715,8 @@ void vtkWhittedSceneConverter::Update(
   in.FreeUnusedInstances();
   in.Geometries.FreeUnused();
   in.Textures.FreeUnused();
+  const vtkWhittedGeometryCache::TimeCacheCounts kept = in.Geometries.GetTimeCacheCounts();
+  result.TimeCacheHits = kept.Hits;
+  result.TimeCacheEntries = kept.Entries;
+  result.TimeCacheBytes = kept.Bytes;
 }

@@ -29,8 +29,9 @@
 #ifndef vtkWhittedSceneConverter_h
 #define vtkWhittedSceneConverter_h
 
-#include <memory> // for std::unique_ptr
-#include <vector> // for std::vector
+#include <cstddef> // for std::size_t
+#include <memory>  // for std::unique_ptr
+#include <vector>  // for std::vector
 
 class vtkObject;
 class vtkProp;
@@ -56,9 +57,12 @@ public:
     /// Props that are the environment (vtkSkybox): drawn by OpenGL before the traced image is
     /// composited over them, so translucent pixels show them behind; reflections sample them.
     std::vector<vtkProp*> BackgroundProps;
-    int GeometriesConverted = 0;   ///< Geometries (inputs or blocks) converted in this update.
-    int TracedActors = 0;          ///< Leaf actors that became instances.
-    bool HeadlightShading = false; ///< VTK light complexity 1 (one headlight) applies.
+    int GeometriesConverted = 0;    ///< Geometries (inputs or blocks) converted in this update.
+    int TimeCacheHits = 0;          ///< Geometries restored from the time cache in this update.
+    int TimeCacheEntries = 0;       ///< Geometries the time cache holds after it.
+    std::size_t TimeCacheBytes = 0; ///< Their memory, bytes.
+    int TracedActors = 0;           ///< Leaf actors that became instances.
+    bool HeadlightShading = false;  ///< VTK light complexity 1 (one headlight) applies.
   };
 
   /**
@@ -75,6 +79,10 @@ public:
 
   /// Drops every cached conversion (the next Update converts everything).
   void Reset();
+
+  /// Memory the time cache of earlier geometry contents may hold, bytes (0: off); see
+  /// vtkWhittedGeometryCache.
+  void SetTimeCacheLimit(std::size_t bytes);
 
 private:
   struct Internals;

@@ -19,8 +19,8 @@ The views alternate frame by frame; --first says which one renders first (the dr
 processes). One CSV row per timed frame.
 """
 import argparse
-import csv
 import os
+import sys
 import time
 
 ap = argparse.ArgumentParser()
@@ -35,21 +35,12 @@ ap.add_argument("--rep", type=int, default=0)
 args = ap.parse_args()
 size = [int(v) for v in args.size.split("x")]
 
-from paraview.simple import (Contour, CreateView, Hide, LoadPlugin, Render, ResetCamera, Show,  # noqa: E402
-                             Sphere, Wavelet)
+from paraview.simple import Contour, Render, Show, Wavelet  # noqa: E402
 
-LoadPlugin(args.plugin, remote=False, ns=globals())
-views = {"render": CreateView("RenderView"), "whitted": CreateView("WhittedRayTraceView")}
-order = [args.first] + [v for v in views if v != args.first]
-for v in views.values():
-    v.ViewSize = size
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pv_bench_views import append_csv, make_views, share_camera  # noqa: E402
 
-# Window, context and shaders exist before anything is timed
-warm = Sphere()
-for name in order:
-    Show(warm, views[name])
-    Render(views[name])
-    Hide(warm, views[name])
+views, order = make_views(args.plugin, size, args.first)
 
 n = args.extent
 contour = Contour(Input=Wavelet(WholeExtent=[-n, n, -n, n, -n, n]), ContourBy=["POINTS", "RTData"],
@@ -58,14 +49,7 @@ contour.UpdatePipeline()  # the filter is not what is compared
 triangles = contour.GetDataInformation().GetNumberOfCells()
 for name in order:
     Show(contour, views[name])
-ResetCamera(views["render"])
-cam = views["render"].GetActiveCamera()
-for v in views.values():
-    c = v.GetActiveCamera()
-    c.SetPosition(cam.GetPosition())
-    c.SetFocalPoint(cam.GetFocalPoint())
-    c.SetViewUp(cam.GetViewUp())
-    c.SetViewAngle(cam.GetViewAngle())
+share_camera(views)
 
 rows = []
 
@@ -91,12 +75,7 @@ for i in range(args.changes):
     for name in (order if i % 2 == 0 else order[::-1]):
         timed(name, "geometry", i)
 
-new = not os.path.exists(args.csv) or os.path.getsize(args.csv) == 0
-with open(args.csv, "a", newline="") as f:
-    w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-    if new:
-        w.writeheader()
-    w.writerows(rows)
+append_csv(args.csv, rows)
 for r in rows:
     print("%-8s %-9s %d: %8.1f ms (CPU %8.1f ms)" % (r["view"], r["event"], r["index"], r["seconds"] * 1e3,
                                                       r["cpu_seconds"] * 1e3))

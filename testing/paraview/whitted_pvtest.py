@@ -20,13 +20,13 @@ def load_plugin(plugin):
         LoadPlugin(plugin, remote=True, ns=globals())
 
 
-def make_view(size=SIZE):
-    """A Whitted view with a fixed camera-independent look: no orientation axes, solid background, no light
-    kit, one directional scene light (so shadows are crisp and the image does not depend on ParaView's
-    light kit defaults)."""
+def make_view(size=SIZE, proxy="WhittedRayTraceView"):
+    """A Whitted view (or another render view, e.g. proxy "RenderView", with the same look) with a fixed
+    camera-independent look: no orientation axes, solid background, no light kit, one directional scene light
+    (so shadows are crisp and the image does not depend on ParaView's light kit defaults)."""
     from paraview.simple import AddLight, CreateView
 
-    view = CreateView("WhittedRayTraceView")
+    view = CreateView(proxy)
     view.ViewSize = list(size)
     view.OrientationAxesVisibility = 0
     view.UseColorPaletteForBackground = 0
@@ -39,7 +39,8 @@ def make_view(size=SIZE):
     light.Position = [-2.0, 5.0, 3.0]
     light.FocalPoint = [0.0, 0.0, 0.0]
     light.Intensity = 1.0
-    view.MaxDepth = 5
+    if proxy == "WhittedRayTraceView":
+        view.MaxDepth = 5
     return view
 
 
@@ -178,6 +179,66 @@ def compare_image(image, baseline, tmpdir, max_bad_fraction=0.002, tolerance=24)
         w.SetFileName(os.path.join(tmpdir, os.path.basename(image).replace(".png", ".diff.png")))
         w.Write()
     return ok, bad
+
+
+# Time series made of ParaView filters (no files): a programmable filter that reports time steps 0, 1, ...,
+# steps - 1 and, at time t, either displaces the points of its polygonal input along z by
+# amplitude * sin(0.15 x + 0.9 t) (same connectivity every step: "deform"), or contours its image input at
+# value + 8 t (new connectivity every step: "contour"). pvbatch runs a programmable filter's script in the main
+# script's namespace (after `from numpy import *`, which shadows abs, all, any, max, min, sum there): the scripts
+# keep their names inside one function, and the scripts using them keep theirs inside main().
+_TIME_STEPS_SCRIPT = """
+def _whitted_time_steps(algorithm, steps):
+    ex = algorithm.GetExecutive()
+    out = ex.GetOutputInformation(0)
+    out.Remove(ex.TIME_STEPS())
+    out.Remove(ex.TIME_RANGE())
+    for k in range(steps):
+        out.Append(ex.TIME_STEPS(), float(k))
+    out.Append(ex.TIME_RANGE(), 0.0)
+    out.Append(ex.TIME_RANGE(), float(steps - 1))
+_whitted_time_steps(self, %d)
+"""
+_REQUESTED_TIME = """
+    ex = algorithm.GetExecutive()
+    out = ex.GetOutputInformation(0)
+    t = out.Get(ex.UPDATE_TIME_STEP()) if out.Has(ex.UPDATE_TIME_STEP()) else 0.0
+"""
+_DEFORM_SCRIPT = """
+def _whitted_deform(algorithm, amplitude):
+    import numpy
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+    from vtkmodules.vtkCommonCore import vtkPoints""" + _REQUESTED_TIME + """\
+    poly = algorithm.GetPolyDataOutput()
+    poly.ShallowCopy(algorithm.GetPolyDataInput())
+    xyz = vtk_to_numpy(poly.GetPoints().GetData()).astype(numpy.float32)
+    xyz[:, 2] += amplitude * numpy.sin(0.15 * xyz[:, 0] + 0.9 * t)
+    points = vtkPoints()
+    points.SetData(numpy_to_vtk(xyz, deep=1))
+    poly.SetPoints(points)
+_whitted_deform(self, %r)
+"""
+_CONTOUR_SCRIPT = """
+def _whitted_contour(algorithm, value):
+    from vtkmodules.vtkFiltersCore import vtkContourFilter""" + _REQUESTED_TIME + """\
+    c = vtkContourFilter()
+    c.SetInputData(algorithm.GetInput())
+    c.SetValue(0, value + 8.0 * t)
+    c.ComputeScalarsOff()
+    c.Update()
+    algorithm.GetPolyDataOutput().ShallowCopy(c.GetOutput())
+_whitted_contour(self, %r)
+"""
+
+
+def time_series(source, mode, steps, amplitude=1.5, value=157.0):
+    """A time-varying filter over source with time steps 0 .. steps-1 (see above): mode "deform" (source
+    polygonal) or "contour" (source an image, e.g. a Wavelet)."""
+    from paraview.simple import ProgrammableFilter
+
+    script = _DEFORM_SCRIPT % amplitude if mode == "deform" else _CONTOUR_SCRIPT % value
+    return ProgrammableFilter(Input=source, OutputDataSetType="Same as Input" if mode == "deform" else "vtkPolyData",
+                              Script=script, RequestInformationScript=_TIME_STEPS_SCRIPT % steps)
 
 
 def fail(msg):

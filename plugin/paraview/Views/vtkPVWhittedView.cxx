@@ -143,6 +143,14 @@ int vtkPVWhittedView::GetNumberOfThreads()
 {
   return this->WhittedPass->GetNumberOfThreads();
 }
+void vtkPVWhittedView::SetTimeCacheMemory(int value)
+{
+  this->WhittedPass->SetTimeCacheMemory(value);
+}
+int vtkPVWhittedView::GetTimeCacheMemory()
+{
+  return this->WhittedPass->GetTimeCacheMemory();
+}
 void vtkPVWhittedView::SetFresnel(bool value)
 {
   this->WhittedPass->SetFresnel(value);
@@ -183,6 +191,18 @@ int vtkPVWhittedView::GetLastGeometriesConverted()
 int vtkPVWhittedView::GetLastObjectsRebuilt()
 {
   return this->WhittedPass->GetLastFrameStatistics()->GetNumberOfObjectsRebuilt();
+}
+int vtkPVWhittedView::GetLastObjectsRefit()
+{
+  return this->WhittedPass->GetLastFrameStatistics()->GetNumberOfObjectsRefit();
+}
+int vtkPVWhittedView::GetLastTimeCacheHits()
+{
+  return this->WhittedPass->GetLastFrameStatistics()->GetNumberOfTimeCacheHits();
+}
+int vtkPVWhittedView::GetLastTimeCacheEntries()
+{
+  return this->WhittedPass->GetLastFrameStatistics()->GetNumberOfTimeCacheEntries();
 }
 
 //------------------------------------------------------------------------------

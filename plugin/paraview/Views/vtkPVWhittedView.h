@@ -85,6 +85,8 @@ public:
   double GetTimeBudget();
   void SetNumberOfThreads(int value);
   int GetNumberOfThreads();
+  void SetTimeCacheMemory(int value);
+  int GetTimeCacheMemory();
   void SetInteractiveMaxDepth(int value);
   int GetInteractiveMaxDepth();
   void SetInteractiveShadows(bool value);
@@ -136,12 +138,16 @@ public:
    * frames the tracer ran on this process, the last frame's wall time in seconds (whole
    * render window), the reduction factor of the last interactive frame, the image split of the last
    * frame (stride, offset), what the last frame converted and rebuilt (geometries converted to the
-   * tracer's scene, object BVHs built; both 0 when nothing changed) and the pass's report of its
-   * last frame.
+   * tracer's scene, object BVHs built, object BVHs refit; all 0 when nothing changed), what it
+   * took from the time cache (geometries restored) and what that holds after it (geometries), and
+   * the pass's report of its last frame.
    */
   vtkGetMacro(TracedFrameCount, int);
   int GetLastGeometriesConverted();
   int GetLastObjectsRebuilt();
+  int GetLastObjectsRefit();
+  int GetLastTimeCacheHits();
+  int GetLastTimeCacheEntries();
   vtkGetMacro(LastRenderTime, double);
   vtkGetMacro(LastImageReduction, int);
   vtkGetVector2Macro(LastImageSplit, int);

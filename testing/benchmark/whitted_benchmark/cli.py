@@ -106,7 +106,7 @@ def main(doc=""):
     if unknown:
         sys.exit("unknown sections: %s (known: %s)" % (", ".join(unknown), ",".join(NAMES)))
     # The ParaView sections run pvbatch, not whitted_bench
-    needs_bench = not args.report_only and any(s not in ("mpi", "paraview") for s in sections)
+    needs_bench = not args.report_only and any(s not in ("mpi", "paraview", "timeseries") for s in sections)
     ctx.bench = find_bench(args, ctx.runner) if needs_bench else ""
     ctx.data = ensure_meshes(ctx.cfg["meshes"], cache, ctx.runner, ctx.notes) if needs_bench else \
         ",".join([os.path.join(REPO, "data", "benchmark"), cache])

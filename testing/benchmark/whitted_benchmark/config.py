@@ -18,7 +18,8 @@ def config(quick):
             error_scenes=["classic"], error_size="64x48", error_ref_spp=4, error_ref_depth=8, error_reps=1,
             error_budget=1.0, meshes=[],
             mpi_extent=10, mpi_size="160x120", mpi_frames=1, mpi_reps=1,
-            pv_extent=10, pv_size="160x120", pv_still=2, pv_changes=1, pv_reps=1)
+            pv_extent=10, pv_size="160x120", pv_still=2, pv_changes=1, pv_reps=1,
+            ts_extent=10, ts_size="160x120", ts_steps=3, ts_reps=1)
     return dict(
         quick=False,
         ray_scenes=["classic", "iso60k", "iso1m", "iso4m", "points100k", "tubes", "glassmirror"],
@@ -36,4 +37,5 @@ def config(quick):
                       "lightinglass"], error_size="192x144",
         error_ref_spp=64, error_ref_depth=16, error_reps=3, error_budget=1.5, meshes=["1m", "4m"],
         mpi_extent=122, mpi_size="1024x768", mpi_frames=3, mpi_reps=3,
-        pv_extent=122, pv_size="1024x768", pv_still=5, pv_changes=3, pv_reps=3)
+        pv_extent=122, pv_size="1024x768", pv_still=5, pv_changes=3, pv_reps=3,
+        ts_extent=122, ts_size="1024x768", ts_steps=5, ts_reps=2)

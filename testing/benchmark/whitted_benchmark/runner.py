@@ -246,3 +246,20 @@ def paraview_env(pvpath):
     env = dict(os.environ)
     env["PYTHONPATH"] = pvpath + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     return env
+
+
+def run_view_bench(ctx, section, script, csv_name, script_args, reps, timeout):
+    """Runs a pvbatch script comparing the Whitted view with the Render View (pv_view_bench.py, pv_time_bench.py)
+    reps times into a fresh csv_name in the results folder, alternating which view renders first (--first,
+    --rep). Skipped with a note when the ParaView build is missing."""
+    path = fresh(ctx.path(csv_name))
+    tools = paraview_tools(ctx, section)
+    if not tools:
+        return
+    plugin, pvpath, pvbatch, _ = tools
+    for rep in range(reps):
+        first = "whitted" if rep % 2 == 0 else "render"
+        cmd = XVFB + [pvbatch, os.path.join(HERE, script), "--plugin", plugin, "--csv", path] + script_args + \
+            ["--first", first, "--rep", str(rep)]
+        ctx.runner.run(cmd, "%s rep %d (%s first)" % (section, rep, first), env=paraview_env(pvpath),
+                       timeout=timeout)

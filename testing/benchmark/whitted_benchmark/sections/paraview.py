@@ -1,11 +1,10 @@
 """The Whitted Ray Trace view against ParaView's Render View in the same pvbatch process (pv_view_bench.py):
 first frame of a new 1M-triangle contour, still frame after a camera turn, frame after the contour value changes;
 ParaView's defaults (light kit, 1024x768)."""
-import os
 import statistics
 
 from ..markdown import commands_block, fmt_ratio, md_table, ms, ratio
-from ..runner import HERE, XVFB, fresh, paraview_env, paraview_tools, read_csv
+from ..runner import read_csv, run_view_bench
 
 EVENTS = [("first", "first frame (new contour shown)"), ("still", "still frame after a 2-degree camera turn"),
           ("geometry", "frame after the contour value changes")]
@@ -13,17 +12,9 @@ EVENTS = [("first", "first frame (new contour shown)"), ("still", "still frame a
 
 def run(ctx):
     c = ctx.cfg
-    path = fresh(ctx.path("paraview.csv"))
-    tools = paraview_tools(ctx, "paraview")
-    if not tools:
-        return
-    plugin, pvpath, pvbatch, _ = tools
-    for rep in range(c["pv_reps"]):
-        first = "whitted" if rep % 2 == 0 else "render"
-        cmd = XVFB + [pvbatch, os.path.join(HERE, "pv_view_bench.py"), "--plugin", plugin, "--csv", path,
-                      "--extent", str(c["pv_extent"]), "--size", c["pv_size"], "--still", str(c["pv_still"]),
-                      "--changes", str(c["pv_changes"]), "--first", first, "--rep", str(rep)]
-        ctx.runner.run(cmd, "paraview views rep %d (%s first)" % (rep, first), env=paraview_env(pvpath), timeout=1800)
+    run_view_bench(ctx, "paraview", "pv_view_bench.py", "paraview.csv",
+                   ["--extent", str(c["pv_extent"]), "--size", c["pv_size"], "--still", str(c["pv_still"]),
+                    "--changes", str(c["pv_changes"])], c["pv_reps"], timeout=1800)
 
 
 def outputs(ctx):

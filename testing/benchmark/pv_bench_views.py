@@ -1,0 +1,48 @@
+"""What the pvbatch benchmark scripts (pv_view_bench.py, pv_time_bench.py) share: ParaView's Render View and the
+Whitted Ray Trace view in one process, warmed up, and one camera for both."""
+
+
+def make_views(plugin, size, first):
+    """Loads the plugin and creates both views at size, keyed "render" and "whitted"; returns (views, order) with
+    order the view names, `first` first. Each view renders a small sphere once (window, OpenGL context,
+    shaders), then hides it, so nothing timed later pays for them."""
+    from paraview.simple import CreateView, Hide, LoadPlugin, Render, Show, Sphere
+
+    LoadPlugin(plugin, remote=False, ns=globals())
+    views = {"render": CreateView("RenderView"), "whitted": CreateView("WhittedRayTraceView")}
+    order = [first] + [v for v in views if v != first]
+    for v in views.values():
+        v.ViewSize = list(size)
+    warm = Sphere()
+    for name in order:
+        Show(warm, views[name])
+        Render(views[name])
+        Hide(warm, views[name])
+    return views, order
+
+
+def share_camera(views):
+    """Resets the Render View's camera to what it shows and gives every view that camera."""
+    from paraview.simple import ResetCamera
+
+    ResetCamera(views["render"])
+    cam = views["render"].GetActiveCamera()
+    for v in views.values():
+        c = v.GetActiveCamera()
+        c.SetPosition(cam.GetPosition())
+        c.SetFocalPoint(cam.GetFocalPoint())
+        c.SetViewUp(cam.GetViewUp())
+        c.SetViewAngle(cam.GetViewAngle())
+
+
+def append_csv(path, rows):
+    """Appends rows (dicts with the same keys) to the CSV file at path, with a header if the file is new."""
+    import csv
+    import os
+
+    new = not os.path.exists(path) or os.path.getsize(path) == 0
+    with open(path, "a", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        if new:
+            w.writeheader()
+        w.writerows(rows)
