@@ -1,10 +1,12 @@
-"""3D Glyphs and Point Gaussian in the Whitted view: traced (nothing left to OpenGL), one instance per glyph, one
-sphere per splat, shadows on the ground, and a regression image.
+"""3D Glyphs, Point Gaussian and per-point sphere radii in the Whitted view: traced (nothing left to OpenGL), one
+instance per glyph, one sphere per splat, shadows on the ground, radii from an array, and a regression image.
 
     pvbatch test_glyphs.py --plugin P --tmp DIR --baseline B.png
 
 Arrows glyph a sphere's points (3D Glyphs: oriented by Normals, coloured by a point array), Point Gaussian
-splats (shader preset Sphere, scaled by an array) stand beside them on a Whitted Surface ground.
+splats (shader preset Sphere) stand beside them on a Whitted Surface ground; behind them vertices drawn as
+spheres (Whitted Surface, Render Points As Spheres) take their radii from a point array through ParaView's
+Scaling Mode / Scale Array properties.
 """
 import argparse
 import os
@@ -23,7 +25,7 @@ ap.add_argument("--baseline", required=True)
 args = ap.parse_args()
 
 import paraview.simple  # noqa: E402
-from paraview.simple import ColorBy, Elevation, Plane, Render, Show, Sphere  # noqa: E402
+from paraview.simple import Calculator, ColorBy, Elevation, MaskPoints, Plane, Render, Show, Sphere  # noqa: E402
 
 os.makedirs(args.tmp, exist_ok=True)
 wt.load_plugin(args.plugin)
@@ -60,7 +62,20 @@ splats.GaussianRadius = 0.12
 ColorBy(splats, ("POINTS", "Elevation"))
 splat_points = cloud.GetDataInformation().GetNumberOfPoints()
 
+dots = MaskPoints(Input=Sphere(Center=[0.2, 0.2, -1.6], Radius=0.6, ThetaResolution=12, PhiResolution=6),
+                  OnRatio=1, GenerateVertices=1, SingleVertexPerCell=1, MaximumNumberofPoints=1000)
+radii = Calculator(Input=dots, ResultArrayName="radius", Function="0.03 + 0.1 * (coordsY - 0.2 + 0.6)")
+balls = Show(radii, view)
+balls.Representation = "Whitted Surface"
+balls.RenderPointsAsSpheres = 1
+balls.DiffuseColor = [0.3, 0.6, 0.9]
+dot_points = dots.GetDataInformation().GetNumberOfPoints()
+
 wt.set_camera(view)
+Render(view)
+uniform = wt.screenshot(view, os.path.join(args.tmp, "glyphs_uniform_radii.png"), [300, 225])
+balls.OSPRayUseScaleArray = "Each Exact"
+balls.OSPRayScaleArray = ["POINTS", "radius"]
 Render(view)
 view.UpdatePropertyInformation()
 report = view.GetProperty("LastFrameReport").GetData()
@@ -70,12 +85,15 @@ scene = re.search(r"(\d+) triangles, (\d+) spheres, \d+ tubes, \d+ objects, (\d+
 triangles, spheres, instances = (int(g) for g in scene.groups())
 check(opengl == 0, "nothing drawn by OpenGL (%d props)" % opengl)
 check(instances >= glyph_points + 2, "one instance per glyph: %d instances for %d glyphs" % (instances, glyph_points))
-check(spheres == splat_points, "one sphere per splat: %d for %d points" % (spheres, splat_points))
+check(spheres == splat_points + dot_points, "one sphere per splat and per vertex: %d for %d + %d points" % (
+    spheres, splat_points, dot_points))
 check(triangles < 1000, "glyph geometry held once: %d triangles" % triangles)
 
 image = wt.screenshot(view, os.path.join(args.tmp, "glyphs.png"), [300, 225])
 ok, _ = wt.compare_image(os.path.join(args.tmp, "glyphs.png"), args.baseline, args.tmp)
 check(ok, "regression image")
+changed = int((np.abs(image - uniform).max(axis=2) > 25).sum())
+check(changed > 200, "Scale Array sets the sphere radii: %d pixels changed from uniform radii" % changed)
 view.Shadows = 0
 unshadowed = wt.screenshot(view, os.path.join(args.tmp, "glyphs_noshadow.png"), [300, 225])
 darker = int(((unshadowed - image).max(axis=2) > 25).sum())

@@ -47,10 +47,11 @@ def report(ctx, head):
          "coloured by a scalar) over a floor with one positional light, %dx%d "
          "(`testing/benchmark/vtk_glyph_bench.py`). vtkWhittedPass traces each glyph as an instance of the cone "
          "(one instance record and one per-instance colour per glyph, one material) with shadows, 1 sample per "
-         "pixel, depth 5; VTK OpenGL draws them instanced on llvmpipe (MultiSamples 0, no shadows). First frame = "
-         "Render() of the new scene (Whitted: conversion, one instance per glyph, top-level BVH build, trace); "
-         "frame = median over %s frames after a 0.5 degree azimuth. Memory = the process's resident set growth "
-         "over its frames (one process per row).\n" % (r0["width"], r0["height"], r0["runs"])]
+         "pixel, depth 5; VTK OpenGL draws them instanced on llvmpipe (MultiSamples 0, no shadows). The window "
+         "first renders the floor alone; first frame = Render() once the glyphs are shown (Whitted: conversion, "
+         "one instance per glyph, top-level BVH build, trace); frame = median over %s frames after a 0.5 degree "
+         "azimuth. Memory = the process's resident set growth from showing the glyphs to its last frame (one "
+         "process per row).\n" % (r0["width"], r0["height"], r0["runs"])]
     tab = []
     for r in rows:
         if r["status"] != "ok":
