@@ -21,7 +21,15 @@ import statistics
 import time
 
 FIELDS = ["mode", "glyphs", "width", "height", "status", "first_frame_seconds", "seconds_median", "cpu_seconds_median",
-          "rss_growth_mb", "bvh_mb", "instances", "triangles", "runs", "breakdown"]
+          "rss_growth_mb", "bvh_mb", "instances", "triangles", "runs", "first_breakdown", "breakdown",
+          "first_frame_cpu_seconds"]
+
+
+def breakdown(p):
+    """The pass's own phase times of its last frame."""
+    stats = p.GetLastFrameStatistics()
+    return " ".join("%s %.0f ms" % (k.lower(), 1e3 * getattr(stats, "Get%sTime" % k)())
+                    for k in ("Conversion", "Build", "Trace", "Composite"))
 
 
 def rss_mb():
@@ -105,66 +113,77 @@ def build(n, size):
     return win, ren, glyphs, cone.GetOutput().GetNumberOfPolys()
 
 
+def measure(mode, n, size, reps):
+    """One row: the glyph scene rendered by mode ('opengl' or 'whitted')."""
+    row = dict(mode=mode, glyphs=n, width=size[0], height=size[1], status="ok")
+    win, ren, glyphs, source_polys = build(n, size)
+    p = None
+    if mode == "whitted":
+        try:
+            from whitted import vtkWhittedPass
+        except ImportError as e:
+            row["status"] = "unavailable: %s" % e
+            return row
+        p = vtkWhittedPass()
+        ren.SetPass(p)
+    glyphs.VisibilityOff()
+    win.Render()
+    win.WaitForCompletion()
+    glyphs.VisibilityOn()
+    before = rss_mb()
+    t, c = time.perf_counter(), cpu()
+    win.Render()
+    win.WaitForCompletion()
+    row["first_frame_seconds"] = time.perf_counter() - t
+    row["first_frame_cpu_seconds"] = cpu() - c
+    if p is not None:
+        row["first_breakdown"] = breakdown(p)
+    walls, cpus = [], []
+    for _ in range(reps):
+        ren.GetActiveCamera().Azimuth(0.5)
+        t, c = time.perf_counter(), cpu()
+        win.Render()
+        win.WaitForCompletion()
+        walls.append(time.perf_counter() - t)
+        cpus.append(cpu() - c)
+    row["seconds_median"] = statistics.median(walls)
+    row["cpu_seconds_median"] = statistics.median(cpus)
+    row["runs"] = reps
+    row["rss_growth_mb"] = rss_mb() - before
+    if p is not None:
+        stats = p.GetLastFrameStatistics()
+        row["bvh_mb"] = stats.GetBVHBytes() / 2.0 ** 20
+        row["instances"] = stats.GetNumberOfInstances()
+        row["triangles"] = stats.GetNumberOfTriangles()
+        row["breakdown"] = breakdown(p)
+        if stats.GetNumberOfOpenGLProps() != 0:
+            row["status"] = "glyphs were drawn by OpenGL, not traced"
+    else:
+        row["triangles"] = source_polys
+    win.Finalize()
+    return row
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--glyphs", type=int, required=True)
-    ap.add_argument("--mode", choices=["opengl", "whitted"], required=True)
+    ap.add_argument("--mode", required=True,
+                    help="opengl, whitted, or both comma-separated (one process: the quick run; the memory figure "
+                         "of the second then includes what the first left)")
     ap.add_argument("--size", default="1024x768")
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--csv", required=True)
     a = ap.parse_args()
     size = [int(v) for v in a.size.split("x")]
-    row = dict(mode=a.mode, glyphs=a.glyphs, width=size[0], height=size[1], status="ok")
-    win, ren, glyphs, source_polys = build(a.glyphs, size)
-    p = None
-    if a.mode == "whitted":
-        try:
-            from whitted import vtkWhittedPass
-        except ImportError as e:
-            row["status"] = "unavailable: %s" % e
-        else:
-            p = vtkWhittedPass()
-            ren.SetPass(p)
-    if row["status"] == "ok":
-        glyphs.VisibilityOff()
-        win.Render()
-        win.WaitForCompletion()
-        glyphs.VisibilityOn()
-        before = rss_mb()
-        t, c = time.perf_counter(), cpu()
-        win.Render()
-        win.WaitForCompletion()
-        row["first_frame_seconds"] = time.perf_counter() - t
-        walls, cpus = [], []
-        for _ in range(a.reps):
-            ren.GetActiveCamera().Azimuth(0.5)
-            t, c = time.perf_counter(), cpu()
-            win.Render()
-            win.WaitForCompletion()
-            walls.append(time.perf_counter() - t)
-            cpus.append(cpu() - c)
-        row["seconds_median"] = statistics.median(walls)
-        row["cpu_seconds_median"] = statistics.median(cpus)
-        row["runs"] = a.reps
-        row["rss_growth_mb"] = rss_mb() - before
-        if p is not None:
-            stats = p.GetLastFrameStatistics()
-            row["bvh_mb"] = stats.GetBVHBytes() / 2.0 ** 20
-            row["instances"] = stats.GetNumberOfInstances()
-            row["triangles"] = stats.GetNumberOfTriangles()
-            row["breakdown"] = " ".join("%s %.0f ms" % (k.lower(), 1e3 * getattr(stats, "Get%sTime" % k)())
-                                        for k in ("Conversion", "Build", "Trace", "Composite"))
-            if stats.GetNumberOfOpenGLProps() != 0:
-                row["status"] = "glyphs were drawn by OpenGL, not traced"
-        else:
-            row["triangles"] = source_polys
-    new = not os.path.exists(a.csv) or os.path.getsize(a.csv) == 0
-    with open(a.csv, "a", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=FIELDS)
-        if new:
-            w.writeheader()
-        w.writerow({k: row.get(k, "") for k in FIELDS})
-    print(row)
+    for mode in a.mode.split(","):
+        row = measure(mode, a.glyphs, size, a.reps)
+        new = not os.path.exists(a.csv) or os.path.getsize(a.csv) == 0
+        with open(a.csv, "a", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=FIELDS)
+            if new:
+                w.writeheader()
+            w.writerow({k: row.get(k, "") for k in FIELDS})
+        print(row)
 
 
 if __name__ == "__main__":

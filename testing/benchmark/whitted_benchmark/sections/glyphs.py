@@ -24,8 +24,10 @@ def run(ctx):
     wpath = find_whitted_pythonpath(ctx.args)
     if wpath:
         env["PYTHONPATH"] = wpath + os.pathsep + env.get("PYTHONPATH", "")
+    # Full: one process per renderer and count (the memory of that process alone); quick: both in one process
+    modes = ["opengl,whitted"] if c["quick"] else ["opengl", "whitted"]
     for n in c["glyph_counts"]:
-        for mode in ("opengl", "whitted"):  # alternating, one process each (memory of that process alone)
+        for mode in modes:
             cmd = XVFB + [VTK_PYTHON, os.path.join(HERE, "vtk_glyph_bench.py"), "--glyphs", str(n), "--mode", mode,
                           "--size", c["glyph_size"], "--reps", str(c["glyph_reps"]), "--csv", path]
             rc, _, _ = ctx.runner.run(cmd, "glyphs %s %d" % (mode, n), env=env, check=False, timeout=1800)
@@ -57,12 +59,15 @@ def report(ctx, head):
         if r["status"] != "ok":
             tab.append([r["glyphs"], LABELS.get(r["mode"], r["mode"]), "", "", "", "", r["status"]])
             continue
-        extra = "%s instances, %s triangles, BVH %.1f MB" % (r["instances"], r["triangles"], r["bvh_mb"]) \
+        extra = "%s instances, %s triangles, BVH %.1f MB; first frame: %s; frame: %s" % (
+            r["instances"], r["triangles"], r["bvh_mb"], r["first_breakdown"], r["breakdown"]) \
             if r["mode"] == "whitted" else "%s triangles per glyph" % r["triangles"]
-        tab.append([r["glyphs"], LABELS.get(r["mode"], r["mode"]), ms(r["first_frame_seconds"]),
+        tab.append([r["glyphs"], LABELS.get(r["mode"], r["mode"]),
+                    "%s / %s" % (ms(r["first_frame_seconds"]), ms(r["first_frame_cpu_seconds"])),
                     "%s / %s" % (ms(r["seconds_median"]), ms(r["cpu_seconds_median"])),
                     "%.0f" % r["rss_growth_mb"], extra, r["status"]])
-    L.append(md_table(["glyphs", "renderer", "first frame ms", "frame ms (wall / CPU)", "memory growth MB",
+    L.append(md_table(["glyphs", "renderer", "first frame ms (wall / CPU)", "frame ms (wall / CPU)",
+                       "memory growth MB",
                        "scene", "status"], tab))
     for n in sorted({r["glyphs"] for r in rows}):
         sel = {m: [r for r in rows if r["glyphs"] == n and r["mode"] == m and r["status"] == "ok"]
