@@ -125,8 +125,7 @@ vtkWhittedGlyphConverter::Problem vtkWhittedGlyphConverter::ForEachGlyph(vtkGlyp
     int source = 0;
     if (indices)
     {
-      const double value =
-        vtkMath::Norm(indices->GetTuple(i), indices->GetNumberOfComponents());
+      const double value = vtkMath::Norm(indices->GetTuple(i), indices->GetNumberOfComponents());
       source = std::min(std::max(static_cast<int>(value), 0), numberOfSources - 1);
     }
 

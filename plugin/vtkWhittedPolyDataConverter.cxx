@@ -376,8 +376,7 @@ struct PointValues
 vtkDataArray* PointArray(vtkPolyData* poly, const std::string& name)
 {
   vtkDataArray* a = name.empty() ? nullptr : poly->GetPointData()->GetArray(name.c_str());
-  return a && a->GetNumberOfTuples() >= poly->GetNumberOfPoints() &&
-      a->GetNumberOfComponents() > 0
+  return a && a->GetNumberOfTuples() >= poly->GetNumberOfPoints() && a->GetNumberOfComponents() > 0
     ? a
     : nullptr;
 }
@@ -903,8 +902,7 @@ void vtkWhittedPolyDataConverter::ConvertPrimitives(
   {
     if (vtkDataArray* opacities = PointArray(poly, o.OpacityArray))
     {
-      in.Opacity =
-        PointValues{ opacities, o.OpacityComponent, o.OpacityFunction, 1.0, true };
+      in.Opacity = PointValues{ opacities, o.OpacityComponent, o.OpacityFunction, 1.0, true };
     }
     AddSpheres(in, 0.0, out.Spheres, issues);
     return; // splats only

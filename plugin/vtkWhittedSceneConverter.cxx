@@ -739,36 +739,36 @@ struct vtkWhittedSceneConverter::Internals
       gs.Origin = geometries[s]->Origin;
     }
     const unsigned char* rgba = colors ? colors->GetPointer(0) : nullptr;
-    const vtkWhittedGlyphConverter::Problem problem = vtkWhittedGlyphConverter::ForEachGlyph(mapper,
-      points, numberOfSources,
-      [&](int s, vtkIdType point, const Mat4& glyph)
-      {
-        GlyphSource& gs = sources[s];
-        Mat4 placed = matrix * glyph;
-        if (gs.Origin != Vec3(0.0))
+    const vtkWhittedGlyphConverter::Problem problem =
+      vtkWhittedGlyphConverter::ForEachGlyph(mapper, points, numberOfSources,
+        [&](int s, vtkIdType point, const Mat4& glyph)
         {
-          placed[3] = placed * whitted::Vec4(gs.Origin, 1.0); // * translate(Origin)
-        }
-        for (int k = 0; k < kinds; ++k)
-        {
-          if (gs.Objects[k] < 0)
+          GlyphSource& gs = sources[s];
+          Mat4 placed = matrix * glyph;
+          if (gs.Origin != Vec3(0.0))
           {
-            continue;
+            placed[3] = placed * whitted::Vec4(gs.Origin, 1.0); // * translate(Origin)
           }
-          const uint32_t id = this->GlyphInstance(gs, k, used[s][k]++);
-          this->Scene.setInstanceTransform(id, placed);
-          if (rgba)
+          for (int k = 0; k < kinds; ++k)
           {
-            const unsigned char* c = rgba + 4 * point;
-            this->Scene.setInstanceColor(
-              id, whitted::Color4(c[0], c[1], c[2], c[3]) * (1.0f / 255.0f));
+            if (gs.Objects[k] < 0)
+            {
+              continue;
+            }
+            const uint32_t id = this->GlyphInstance(gs, k, used[s][k]++);
+            this->Scene.setInstanceTransform(id, placed);
+            if (rgba)
+            {
+              const unsigned char* c = rgba + 4 * point;
+              this->Scene.setInstanceColor(
+                id, whitted::Color4(c[0], c[1], c[2], c[3]) * (1.0f / 255.0f));
+            }
+            else
+            {
+              this->Scene.clearInstanceColor(id);
+            }
           }
-          else
-          {
-            this->Scene.clearInstanceColor(id);
-          }
-        }
-      });
+        });
     if (problem != vtkWhittedGlyphConverter::None)
     {
       static const char* const what[] = { "",
