@@ -53,7 +53,8 @@ def report(ctx, head):
          "first renders the floor alone; first frame = Render() once the glyphs are shown (Whitted: conversion, "
          "one instance per glyph, top-level BVH build, trace); frame = median over %s frames after a 0.5 degree "
          "azimuth. Memory = the process's resident set growth from showing the glyphs to its last frame (one "
-         "process per row).\n" % (r0["width"], r0["height"], r0["runs"])]
+         "process per row in the full run; the quick run measures both in one).\n" % (
+             r0["width"], r0["height"], r0["runs"])]
     tab = []
     for r in rows:
         if r["status"] != "ok":
@@ -61,7 +62,7 @@ def report(ctx, head):
             continue
         extra = "%s instances, %s triangles, BVH %.1f MB; first frame: %s; frame: %s" % (
             r["instances"], r["triangles"], r["bvh_mb"], r["first_breakdown"], r["breakdown"]) \
-            if r["mode"] == "whitted" else "%s triangles per glyph" % r["triangles"]
+            if r["mode"] == "whitted" else "%s polygons per glyph" % r["triangles"]
         tab.append([r["glyphs"], LABELS.get(r["mode"], r["mode"]),
                     "%s / %s" % (ms(r["first_frame_seconds"]), ms(r["first_frame_cpu_seconds"])),
                     "%s / %s" % (ms(r["seconds_median"]), ms(r["cpu_seconds_median"])),
