@@ -48,8 +48,8 @@ glyphs = Show(Elevation(Input=ball, LowPoint=[0, -1, 0], HighPoint=[0, 1, 0]), v
 glyphs.Representation = "3D Glyphs"
 glyphs.GlyphType = "Arrow"
 glyphs.Orient = 1
-glyphs.OrientationArray = ["POINTS", "Normals"]
-glyphs.ScaleArray = ["POINTS", "No scale array"]
+glyphs.OrientationMode = "Direction"
+glyphs.SelectOrientationVectors = "Normals"
 glyphs.ScaleFactor = 0.5
 ColorBy(glyphs, ("POINTS", "Elevation"))
 glyph_points = ball.GetDataInformation().GetNumberOfPoints()
@@ -75,7 +75,7 @@ wt.set_camera(view)
 Render(view)
 uniform = wt.screenshot(view, os.path.join(args.tmp, "glyphs_uniform_radii.png"), [300, 225])
 balls.OSPRayUseScaleArray = "Each Exact"
-balls.OSPRayScaleArray = ["POINTS", "radius"]
+balls.OSPRayScaleArray = "radius"
 Render(view)
 view.UpdatePropertyInformation()
 report = view.GetProperty("LastFrameReport").GetData()
