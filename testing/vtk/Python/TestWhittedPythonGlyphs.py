@@ -8,6 +8,8 @@
   actor with its own position and orientation.
 - Instancing: the glyphs cost instances, not geometry: the scene holds the sources' triangles once, and one
   traced instance per drawn glyph.
+- Caching: a camera move converts and places nothing (no top-level rebuild); a lookup-table edit recolours the
+  glyphs in place (no object BVH rebuilt); fewer points hide the surplus instances.
 - Effects: glyphs cast shadows on the floor (floor pixels darker with shadows than without) and show in a mirror
   (mirror pixels change when the glyphs are hidden); that image is the regression baseline
   (TestWhittedPythonGlyphs.png), whose glyphs are checked against OpenGL by the agreement above.
@@ -248,6 +250,46 @@ class TestWhittedPythonGlyphs(Testing.vtkTest):
         self.assertGreater(reflected.sum(), 300)
 
 
+class TestWhittedPythonGlyphCaching(Testing.vtkTest):
+    def testCaching(self):
+        actor, drawn = directed_glyphs()
+        ren = scene([actor])
+        win = window_of(ren)
+        p, (first, _) = traced(win, ren)
+        stats = p.GetLastFrameStatistics()
+        ren.GetActiveCamera().Azimuth(2)
+        win.Render()
+        print("camera move: converted %d, objects rebuilt %d, top level rebuilt %d"
+              % (stats.GetNumberOfGeometriesConverted(), stats.GetNumberOfObjectsRebuilt(), stats.GetTopLevelRebuilt()))
+        self.assertEqual(stats.GetNumberOfGeometriesConverted(), 0)
+        self.assertEqual(stats.GetNumberOfObjectsRebuilt(), 0)
+        self.assertFalse(stats.GetTopLevelRebuilt())
+        ren.GetActiveCamera().Azimuth(-2)
+        win.Render()
+        same, _ = grab_with_depth(win)
+        self.assertEqual(np.abs(same - first).max(), 0)
+
+        lut = actor.GetMapper().GetLookupTable()
+        lut.SetHueRange(0.3, 0.9)
+        lut.Build()
+        win.Render()
+        recoloured, _ = grab_with_depth(win)
+        changed = (np.abs(recoloured - first).max(axis=2) > 25).mean()
+        print("lookup-table edit: %.1f%% of pixels changed, objects rebuilt %d"
+              % (100 * changed, stats.GetNumberOfObjectsRebuilt()))
+        self.assertGreater(changed, 0.05)
+        self.assertEqual(stats.GetNumberOfObjectsRebuilt(), 0)
+
+        # Fewer points: the surplus instances are hidden
+        poly = actor.GetMapper().GetInput()
+        poly.GetPointData().GetArray("mask").SetValue(0, 0)
+        poly.GetPointData().GetArray("mask").Modified()
+        poly.Modified()
+        win.Render()
+        print("one more glyph masked: %d instances" % stats.GetNumberOfInstances())
+        self.assertEqual(stats.GetNumberOfInstances(), drawn - 1 + 1)  # + the floor
+
+
 def grab_floor_only():
     ren = scene([])
     win = window_of(ren)
@@ -256,4 +298,4 @@ def grab_floor_only():
 
 
 if __name__ == "__main__":
-    Testing.main([(TestWhittedPythonGlyphs, "test")])
+    Testing.main([(TestWhittedPythonGlyphs, "test"), (TestWhittedPythonGlyphCaching, "test")])
