@@ -125,8 +125,11 @@ vtkWhittedGlyphConverter::Problem vtkWhittedGlyphConverter::ForEachGlyph(vtkGlyp
     int source = 0;
     if (indices)
     {
+      // Clamped before the cast (a NaN or huge norm would not fit an int): NaN takes source 0,
+      // as VTK's cast gives on x86-64
       const double value = vtkMath::Norm(indices->GetTuple(i), indices->GetNumberOfComponents());
-      source = std::min(std::max(static_cast<int>(value), 0), numberOfSources - 1);
+      const double last = numberOfSources - 1;
+      source = static_cast<int>(value >= 0.0 ? std::min(value, last) : 0.0);
     }
 
     // Scale: by magnitude or components, clamped to Range and mapped to [0, 1] when clamping

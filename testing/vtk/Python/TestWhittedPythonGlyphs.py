@@ -8,6 +8,9 @@
   actor with its own position and orientation.
 - Instancing: the glyphs cost instances, not geometry: the scene holds the sources' triangles once, and one
   traced instance per drawn glyph.
+- Bad input: NaN points, orientations, scales and source indices, zero scales and an orientation array of the
+  wrong size render without a crash or a non-finite pixel (the NaN glyphs are left out, the wrong array draws no
+  glyph, as in VTK).
 - Caching: a camera move converts and places nothing (no top-level rebuild); a lookup-table edit recolours the
   glyphs in place (no object BVH rebuilt); fewer points hide the surplus instances.
 - Effects: glyphs cast shadows on the floor (floor pixels darker with shadows than without) and show in a mirror
@@ -290,6 +293,34 @@ class TestWhittedPythonGlyphCaching(Testing.vtkTest):
         self.assertEqual(stats.GetNumberOfInstances(), drawn - 1 + 1)  # + the floor
 
 
+class TestWhittedPythonGlyphBadInput(Testing.vtkTest):
+    def testBadInput(self):
+        nan = float("nan")
+        actor, _ = directed_glyphs()
+        poly = actor.GetMapper().GetInput()
+        poly.GetPoints().SetPoint(1, nan, 0, 0)
+        poly.GetPointData().GetArray("velocity").SetTuple3(2, nan, 1, 0)
+        poly.GetPointData().GetArray("speed").SetValue(4, nan)
+        poly.GetPointData().GetArray("speed").SetValue(5, 0.0)
+        poly.GetPointData().GetArray("shape").SetValue(6, nan)
+        poly.GetPointData().GetArray("shape").SetValue(7, 1e30)
+        ren = scene([actor])
+        win = window_of(ren)
+        p, (rgb, _) = traced(win, ren)
+        stats = p.GetLastFrameStatistics()
+        print("bad input: %d instances, %d safety-net catches" % (stats.GetNumberOfInstances(),
+                                                                  stats.GetNumberOfSafetyNetCatches()))
+        self.assertEqual(stats.GetNumberOfSafetyNetCatches(), 0)
+        self.assertGreater(stats.GetNumberOfInstances(), 10)
+        self.assertTrue(np.isfinite(rgb).all())
+
+        # An orientation array of the wrong size: VTK draws no glyph, nor does the pass
+        actor.GetMapper().SetOrientationModeToQuaternion()
+        win.Render()
+        print("3-component array as quaternions: %d instances" % stats.GetNumberOfInstances())
+        self.assertEqual(stats.GetNumberOfInstances(), 1)  # the floor
+
+
 def grab_floor_only():
     ren = scene([])
     win = window_of(ren)
@@ -298,4 +329,5 @@ def grab_floor_only():
 
 
 if __name__ == "__main__":
-    Testing.main([(TestWhittedPythonGlyphs, "test"), (TestWhittedPythonGlyphCaching, "test")])
+    Testing.main([(TestWhittedPythonGlyphs, "test"), (TestWhittedPythonGlyphCaching, "test"),
+                  (TestWhittedPythonGlyphBadInput, "test")])
