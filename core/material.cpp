@@ -44,13 +44,15 @@ bool sanitizeColor(Color& c, float lo, float hi) {
   return fixed;
 }
 
+Color4 sanitizedColor(const Color4& c) {
+  Color rgb(c);
+  sanitizeColor(rgb, 0.0f, 1.0f);
+  const float a = std::isfinite(c.a) ? std::clamp(c.a, 0.0f, 1.0f) : 1.0f;
+  return Color4(rgb, a);
+}
+
 void sanitizeColors(std::vector<Color4>& colors) {
-  for (Color4& c : colors) {
-    Color rgb(c);
-    sanitizeColor(rgb, 0.0f, 1.0f);
-    const float a = std::isfinite(c.a) ? std::clamp(c.a, 0.0f, 1.0f) : 1.0f;
-    c = Color4(rgb, a);
-  }
+  for (Color4& c : colors) c = sanitizedColor(c);
 }
 
 Color4 Texture::sample(float s, float t) const {

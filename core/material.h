@@ -104,5 +104,7 @@ bool sanitizeColor(Color& c, float lo, float hi);
 /// Geometry colours (vertex, triangle, sphere, tube colours): RGB as sanitizeColor(rgb, 0, 1), alpha clamped to
 /// [0,1] with a non-finite alpha becoming 1, so no NaN can reach shading.
 void sanitizeColors(std::vector<Color4>& colors);
+/// One geometry colour sanitised as sanitizeColors does.
+Color4 sanitizedColor(const Color4& c);
 
 }  // namespace whitted

@@ -127,6 +127,13 @@ void Scene::setInstanceObject(uint32_t id, uint32_t object) {
   instances_[id].object = object;
   topDirty_ = true;
 }
+void Scene::setInstanceColor(uint32_t id, const Color4& c) {
+  instances_[id].color = sanitizedColor(c);  // shading never sees a NaN
+  instances_[id].hasColor = true;
+}
+void Scene::clearInstanceColor(uint32_t id) {
+  instances_[id].hasColor = false;
+}
 void Scene::clearInstances() {
   instances_.clear();
   topDirty_ = true;
@@ -301,6 +308,7 @@ void Scene::updateFeaturesAndBounds() {
 SceneStats Scene::stats() const {
   SceneStats s;
   s.instances = instances_.size();
+  s.tracedInstances = topInstances_.size();
   for (const Object& o : objects_) {
     if (!o.alive) continue;
     ++s.objects;

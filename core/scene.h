@@ -58,6 +58,7 @@ struct CommitStats {
 /// Totals over the scene, for the frame report.
 struct SceneStats {
   std::size_t triangles = 0, spheres = 0, tubes = 0, objects = 0, instances = 0;
+  std::size_t tracedInstances = 0;  ///< Visible instances in the top-level BVH (instances counts hidden ones too).
   std::size_t bvhNodes = 0, bvhBytes = 0, geometryBytes = 0;
   std::size_t textures = 0;      ///< Textures holding texels (colour maps included).
   std::size_t textureBytes = 0;  ///< Memory of their texels, bytes (allocated capacity).
@@ -111,6 +112,14 @@ class Scene {
   void setInstanceMaterial(uint32_t instance, uint32_t material);
   void setInstanceVisible(uint32_t instance, bool visible);
   void setInstanceObject(uint32_t instance, uint32_t object);
+  /// Gives every surface point of the instance the geometry colour c (RGBA in [0,1]), in place of its object's own
+  /// vertex / primitive colours; the material's colorSource decides, as for those, whether it replaces the ambient
+  /// and / or diffuse colour and multiplies the opacity. For many instances of one object with one colour each
+  /// (glyphs): one material for all of them, and 16 bytes per instance instead of a material per colour.
+  /// Default: none (the object's colours).
+  void setInstanceColor(uint32_t instance, const Color4& c);
+  /// Removes the instance colour (back to the object's colours).
+  void clearInstanceColor(uint32_t instance);
   std::size_t instanceCount() const { return instances_.size(); }
   uint32_t instanceObject(uint32_t instance) const { return instances_[instance].object; }
   /// Removes all instances (objects stay, so their BVHs are kept).
@@ -188,6 +197,8 @@ class Scene {
     uint32_t material = 0;
     Mat4 toWorld{1.0}, toObject{1.0};
     Mat3 normalToWorld{1.0};
+    Color4 color{1.0f};  ///< Geometry colour of every point when hasColor (setInstanceColor).
+    bool hasColor = false;
     bool identity = true;
     bool visible = true;
     /// ray in object space (t keeps its meaning: the same point for the same t).

@@ -320,3 +320,40 @@ TEST(Scene, TakenObjectIsRestoredWithoutRebuild) {
   EXPECT_EQ(s.commit().objectsRebuilt, 0);
   expectHitsMatchBruteForce(s, second);
 }
+
+// Instance colours: many instances of one object with one material, each seen with its own colour (over the
+// object's own colours), sanitised; clearing one restores the object's colour.
+TEST(Scene, InstanceColorsReplaceObjectColors) {
+  Scene s;
+  SphereSet balls;
+  balls.centers = {Vec3(0.0)};
+  balls.radii = {0.4};
+  balls.colors = {Color4(0.5f, 0.5f, 0.5f, 1.0f)};
+  const uint32_t o = s.addSpheres(balls);
+  Material mat;
+  mat.colorSource = ColorSource::ScalarsAmbientAndDiffuse;
+  const uint32_t m = s.addMaterial(mat);
+  std::vector<uint32_t> ids;
+  for (int i = 0; i < 3; ++i) {
+    Mat4 place(1.0);
+    place[3] = Vec4(2.0 * i, 0.0, 0.0, 1.0);
+    ids.push_back(s.addInstance(o, place, m));
+  }
+  s.setInstanceColor(ids[0], Color4(1, 0, 0, 1));
+  s.setInstanceColor(ids[1], Color4(0, std::nanf(""), 2, -1));  // sanitised like geometry colours
+  s.commit();
+  auto colorAt = [&](double x) {
+    Ray r;
+    r.origin = Vec3(x, 0.0, 5.0);
+    r.dir = Vec3(0, 0, -1);
+    Hit h;
+    EXPECT_TRUE(s.intersect(r, h));
+    return s.surface(r, h).color;
+  };
+  EXPECT_EQ(colorAt(0.0), Color4(1, 0, 0, 1));
+  EXPECT_EQ(colorAt(2.0), Color4(0, 0, 1, 0));
+  EXPECT_EQ(colorAt(4.0), Color4(0.5f, 0.5f, 0.5f, 1.0f));
+  s.clearInstanceColor(ids[0]);
+  EXPECT_EQ(colorAt(0.0), Color4(0.5f, 0.5f, 0.5f, 1.0f));
+  EXPECT_EQ(s.stats().spheres, 1u);  // one object for every instance
+}

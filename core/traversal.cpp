@@ -194,6 +194,10 @@ SurfacePoint Scene::surface(const Ray& ray, const Hit& hit) const {
   // Object-space surface data from the hit's shape
   const Ray r = in.objectRay(ray);
   visitShape(o, [&](auto shape, const auto& g) { decltype(shape)::surface(g, hit, r, textures_, sp); });
+  if (in.hasColor) {
+    sp.color = in.color;
+    sp.hasColor = true;
+  }
 
   // Object -> world
   if (!in.identity) {

@@ -5,6 +5,7 @@ set(whitted_conversion_sources
   vtkWhittedSceneConverter.cxx     # the prop walk: what is traced, instances, retiring what is unused
   vtkWhittedGeometryCache.cxx      # converted geometry per (mapper, input or block, options)
   vtkWhittedPolyDataConverter.cxx  # one polydata -> triangles, spheres, tubes
+  vtkWhittedGlyphConverter.cxx     # vtkGlyph3DMapper -> one instance per glyph
   vtkWhittedTextureCache.cxx       # vtkTexture -> scene textures
   vtkWhittedMaterials.cxx          # vtkProperty + Whitted keys -> material
   vtkWhittedLights.cxx             # vtkLight -> lights
@@ -14,6 +15,7 @@ set(whitted_conversion_headers
   vtkWhittedSceneConverter.h
   vtkWhittedGeometryCache.h
   vtkWhittedPolyDataConverter.h
+  vtkWhittedGlyphConverter.h
   vtkWhittedTextureCache.h
   vtkWhittedMaterials.h
   vtkWhittedLights.h

@@ -12,6 +12,7 @@ void vtkWhittedFrameStatistics::Reset()
   this->PrimaryRays = this->ShadowRays = this->ReflectionRays = this->RefractionRays = 0;
   this->RaysSavedByThreshold = this->RaysSavedByDepth = 0;
   this->NumberOfTriangles = this->NumberOfSpheres = this->NumberOfTubes = 0;
+  this->NumberOfInstances = 0;
   this->BVHBytes = this->NumberOfTextures = this->TextureBytes = 0;
   this->Size[0] = this->Size[1] = 0;
   this->NumberOfGeometriesConverted = this->NumberOfObjectsRebuilt = this->NumberOfObjectsRefit = 0;
@@ -50,6 +51,7 @@ void vtkWhittedFrameStatistics::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfTriangles: " << this->NumberOfTriangles << "\n";
   os << indent << "NumberOfSpheres: " << this->NumberOfSpheres << "\n";
   os << indent << "NumberOfTubes: " << this->NumberOfTubes << "\n";
+  os << indent << "NumberOfInstances: " << this->NumberOfInstances << "\n";
   os << indent << "BVHBytes: " << this->BVHBytes << "\n";
   os << indent << "NumberOfTextures: " << this->NumberOfTextures << "\n";
   os << indent << "TextureBytes: " << this->TextureBytes << "\n";

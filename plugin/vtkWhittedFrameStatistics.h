@@ -54,13 +54,16 @@ public:
 
   ///@{
   /**
-   * The scene: triangles, spheres (points as spheres), tubes (lines as tubes), BVH memory in bytes,
+   * The scene: triangles, spheres (points as spheres), tubes (lines as tubes), traced instances
+   * (placements of that geometry: one per actor piece and primitive kind, one per glyph), BVH
+   * memory in bytes,
    * textures held (actor textures and colour maps of InterpolateScalarsBeforeMapping) and their
    * memory in bytes; the traced image's size in pixels.
    */
   vtkGetMacro(NumberOfTriangles, vtkTypeUInt64);
   vtkGetMacro(NumberOfSpheres, vtkTypeUInt64);
   vtkGetMacro(NumberOfTubes, vtkTypeUInt64);
+  vtkGetMacro(NumberOfInstances, vtkTypeUInt64);
   vtkGetMacro(BVHBytes, vtkTypeUInt64);
   vtkGetMacro(NumberOfTextures, vtkTypeUInt64);
   vtkGetMacro(TextureBytes, vtkTypeUInt64);
@@ -173,6 +176,7 @@ protected:
   vtkTypeUInt64 NumberOfTriangles = 0;
   vtkTypeUInt64 NumberOfSpheres = 0;
   vtkTypeUInt64 NumberOfTubes = 0;
+  vtkTypeUInt64 NumberOfInstances = 0;
   vtkTypeUInt64 BVHBytes = 0;
   vtkTypeUInt64 NumberOfTextures = 0;
   vtkTypeUInt64 TextureBytes = 0;

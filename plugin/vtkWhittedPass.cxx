@@ -15,6 +15,8 @@
 #include "vtkImageData.h"
 #include "vtkInformationDoubleKey.h"
 #include "vtkInformationDoubleVectorKey.h"
+#include "vtkInformationObjectBaseKey.h"
+#include "vtkInformationStringKey.h"
 #include "vtkLightsPass.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpaquePass.h"
@@ -170,6 +172,8 @@ vtkInformationKeyMacro(vtkWhittedPass, TRANSMITTANCE, DoubleVector);
 vtkInformationKeyMacro(vtkWhittedPass, INDEX_OF_REFRACTION, Double);
 vtkInformationKeyMacro(vtkWhittedPass, ATTENUATION_COLOR, DoubleVector);
 vtkInformationKeyMacro(vtkWhittedPass, ATTENUATION_DISTANCE, Double);
+vtkInformationKeyMacro(vtkWhittedPass, RADIUS_ARRAY, String);
+vtkInformationKeyMacro(vtkWhittedPass, RADIUS_FUNCTION, ObjectBase);
 
 //------------------------------------------------------------------------------
 vtkWhittedPass::vtkWhittedPass()
@@ -460,6 +464,7 @@ void vtkWhittedPassInternals::RecordStatistics(
   st->NumberOfTriangles = scene.triangles;
   st->NumberOfSpheres = scene.spheres;
   st->NumberOfTubes = scene.tubes;
+  st->NumberOfInstances = scene.tracedInstances;
   st->BVHBytes = scene.bvhBytes;
   st->NumberOfTextures = scene.textures;
   st->TextureBytes = scene.textureBytes;

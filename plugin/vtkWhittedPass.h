@@ -54,6 +54,8 @@ class vtkFloatArray;
 class vtkImageData;
 class vtkInformationDoubleKey;
 class vtkInformationDoubleVectorKey;
+class vtkInformationObjectBaseKey;
+class vtkInformationStringKey;
 class vtkWhittedFrameStatistics;
 class vtkWhittedPassInternals;
 class vtkWhittedSceneConverter;
@@ -192,6 +194,23 @@ public:
   static vtkInformationDoubleKey* INDEX_OF_REFRACTION();
   static vtkInformationDoubleVectorKey* ATTENUATION_COLOR();
   static vtkInformationDoubleKey* ATTENUATION_DISTANCE();
+  ///@}
+
+  ///@{
+  /**
+   * Per-point radii of points drawn as spheres (RenderPointsAsSpheres, points representation) and
+   * lines drawn as tubes (RenderLinesAsTubes), set on an actor's vtkProperty information (the
+   * counterpart of vtkOSPRayActorNode's SCALE_ARRAY_NAME / SCALE_FUNCTION, which Debian's VTK
+   * does not build).
+   * RADIUS_ARRAY: name of a point array; a point's radius is its value (its only component, or
+   * the magnitude of a vector), in data units. A tube segment has the mean of its two end
+   * points' radii. Default unset: radius PointSize (LineWidth) x data diagonal / 1000.
+   * RADIUS_FUNCTION: a vtkPiecewiseFunction the values go through first (clamped to its range),
+   * e.g. to map a scalar range onto a radius range. Default unset (values are radii).
+   * (vtkPointGaussianMapper's ScaleArray, ScaleFunction and ScaleFactor are read from the mapper.)
+   */
+  static vtkInformationStringKey* RADIUS_ARRAY();
+  static vtkInformationObjectBaseKey* RADIUS_FUNCTION();
   ///@}
 
   /**

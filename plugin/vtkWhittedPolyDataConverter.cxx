@@ -9,6 +9,7 @@
 #include "vtkImageData.h"
 #include "vtkMapper.h"
 #include "vtkNew.h"
+#include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
@@ -348,6 +349,59 @@ void MapColors(vtkPolyData* poly, vtkIdType numCells, vtkMapper* mapper, bool ac
 }
 
 //------------------------------------------------------------------------------
+// A value per point: a point array's component (its only one, or its magnitude when the component
+// is -1 or out of range, as vtkPointGaussianMapper takes it; 1 without an array), through a
+// piecewise function when given (clamped to its range, as the mapper's table is), times a factor.
+struct PointValues
+{
+  vtkDataArray* Array = nullptr;
+  int Component = -1;
+  vtkPiecewiseFunction* Function = nullptr;
+  double Factor = 1.0;
+  bool Active = false; ///< Values are given per point (else the caller's uniform value applies).
+
+  double At(vtkIdType pid) const
+  {
+    double v = 1.0;
+    if (this->Array)
+    {
+      const int n = this->Array->GetNumberOfComponents();
+      const int c = n == 1 ? 0 : this->Component;
+      if (c >= 0 && c < n)
+      {
+        v = this->Array->GetComponent(pid, c);
+      }
+      else
+      {
+        v = 0.0;
+        for (int k = 0; k < n; ++k)
+        {
+          const double x = this->Array->GetComponent(pid, k);
+          v += x * x;
+        }
+        v = std::sqrt(v);
+      }
+    }
+    if (this->Function)
+    {
+      double range[2];
+      this->Function->GetRange(range);
+      v = this->Function->GetValue(std::min(std::max(v, range[0]), range[1]));
+    }
+    return v * this->Factor;
+  }
+};
+
+// The point array named name with at least one tuple per point, or null.
+vtkDataArray* PointArray(vtkPolyData* poly, const std::string& name)
+{
+  vtkDataArray* a = name.empty() ? nullptr : poly->GetPointData()->GetArray(name.c_str());
+  return a && a->GetNumberOfTuples() >= poly->GetNumberOfPoints() && a->GetNumberOfComponents() > 0
+    ? a
+    : nullptr;
+}
+
+//------------------------------------------------------------------------------
 // What the primitive builders below share: the input's points, its valid cell arrays, its colours
 // as the mapper maps them, and the actor's options.
 struct PrimitiveInput
@@ -358,6 +412,8 @@ struct PrimitiveInput
   const CellArrays& Cells;
   const ColorSource& Colors;
   const vtkWhittedPolyDataConverter::Options& Opts;
+  PointValues Radii;   ///< Per-point radii, when Radii.Active.
+  PointValues Opacity; ///< Point Gaussian opacity array (alpha of mapped colours), when Active.
 
   Vec3 Point(vtkIdType i) const
   {
@@ -377,9 +433,17 @@ void AddSpheres(const PrimitiveInput& in, double radius, whitted::SphereSet& sph
   auto addSphere = [&](vtkIdType pid, vtkIdType cell)
   {
     spheres.centers.push_back(in.Point(pid));
+    if (in.Radii.Active)
+    {
+      spheres.radii.push_back(in.Radii.At(pid));
+    }
     if (colors.PointColors())
     {
       spheres.colors.push_back(colors.Point(pid));
+      if (in.Opacity.Active)
+      {
+        spheres.colors.back().a = static_cast<float>(in.Opacity.At(pid));
+      }
     }
     else if (colors.CellColors())
     {
@@ -387,7 +451,15 @@ void AddSpheres(const PrimitiveInput& in, double radius, whitted::SphereSet& sph
     }
   };
   const vtkIdType np = in.NumberOfPoints;
-  if (in.Opts.Representation == VTK_POINTS)
+  if (in.Opts.Gaussian && in.Poly->GetNumberOfVerts() == 0)
+  {
+    // Point Gaussian without vertex cells: a splat at every point
+    for (vtkIdType i = 0; i < np; ++i)
+    {
+      addSphere(i, -1);
+    }
+  }
+  else if (in.Opts.Representation == VTK_POINTS)
   {
     std::vector<bool> seen(static_cast<size_t>(np), false);
     for (int k = 0; k < 4; ++k)
@@ -417,7 +489,7 @@ void AddSpheres(const PrimitiveInput& in, double radius, whitted::SphereSet& sph
         }
       });
   }
-  if (!spheres.centers.empty())
+  if (!spheres.centers.empty() && !in.Radii.Active)
   {
     if (radius > 0.0 && std::isfinite(radius))
     {
@@ -443,6 +515,10 @@ void AddTubes(const PrimitiveInput& in, double radius, whitted::TubeSet& tubes,
   {
     tubes.p0.push_back(in.Point(a));
     tubes.p1.push_back(in.Point(b));
+    if (in.Radii.Active)
+    {
+      tubes.radii.push_back(0.5 * (in.Radii.At(a) + in.Radii.At(b)));
+    }
     if (colors.PointColors())
     {
       tubes.colors0.push_back(colors.Point(a));
@@ -502,7 +578,7 @@ void AddTubes(const PrimitiveInput& in, double radius, whitted::TubeSet& tubes,
         }
       });
   }
-  if (!tubes.p0.empty())
+  if (!tubes.p0.empty() && !in.Radii.Active)
   {
     if (radius > 0.0 && std::isfinite(radius))
     {
@@ -834,7 +910,24 @@ void vtkWhittedPolyDataConverter::ConvertPrimitives(
     out.ColorTexture.interpolate = false;
   }
 
-  const PrimitiveInput in{ poly, points, np, cells, colors, o };
+  PrimitiveInput in{ poly, points, np, cells, colors, o, {}, {} };
+  // Per-point radii: Point Gaussian splats (radius 1 through the function without an array), or a
+  // radius array when the points have it
+  vtkDataArray* radii = PointArray(poly, o.RadiusArray);
+  if (o.Gaussian || radii)
+  {
+    in.Radii = PointValues{ radii, o.Gaussian ? o.RadiusComponent : -1,
+      o.Gaussian && o.RadiusArray.empty() ? nullptr : o.RadiusFunction, o.RadiusFactor, true };
+  }
+  if (o.Gaussian)
+  {
+    if (vtkDataArray* opacities = PointArray(poly, o.OpacityArray))
+    {
+      in.Opacity = PointValues{ opacities, o.OpacityComponent, o.OpacityFunction, 1.0, true };
+    }
+    AddSpheres(in, 0.0, out.Spheres, issues);
+    return; // splats only
+  }
   AddSpheres(in, o.PointSize * radiusScale, out.Spheres, issues);
   AddTubes(in, o.LineWidth * radiusScale, out.Tubes, issues);
   if (o.Representation == VTK_SURFACE)

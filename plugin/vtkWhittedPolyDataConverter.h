@@ -18,9 +18,10 @@
  * does; with InterpolateScalarsBeforeMapping the mapper's colour texture and colour-map
  * coordinates.
  * - Vertex cells become spheres, line cells tubes (tubes), of radius PointSize (LineWidth) times
- * the input's diagonal / 1000 (VTK's OSPRay pass makes the same choice). In points representation
- * every point used by a cell is a sphere; in wireframe representation every polygon / strip edge
- * (once) is a tube.
+ * the input's diagonal / 1000 (VTK's OSPRay pass makes the same choice), or per point from a
+ * radius array (Options::RadiusArray: vtkWhittedPass::RADIUS_ARRAY, vtkPointGaussianMapper). In
+ * points representation every point used by a cell is a sphere; in wireframe representation every
+ * polygon / strip edge (once) is a tube.
  * - Bad input never reaches the tracer unchecked: cells with point ids out of range and malformed
  * cell arrays are skipped, attribute arrays shorter than the points (cells) they describe are
  * ignored, spheres / tubes without a positive radius are left out; non-finite points, normals and
@@ -37,11 +38,13 @@
 #include "material.h" // whitted::Texture
 #include "shapes.h"   // whitted::TriangleMesh, SphereSet, TubeSet
 
-#include <tuple> // for std::tuple
+#include <string> // for std::string
+#include <tuple>  // for std::tuple
 
 class vtkDataArray;
 class vtkImageData;
 class vtkMapper;
+class vtkPiecewiseFunction;
 class vtkPolyData;
 class vtkTexture;
 
@@ -58,11 +61,31 @@ public:
     float PointSize = 1.0f;
     float LineWidth = 1.0f;
     bool TCoords = false; ///< The actor has a texture: keep the input's texture coordinates.
+    /// Per-point radii of spheres and tubes: the point array of this name (its only component, or
+    /// its magnitude), through RadiusFunction when set (clamped to its range), times
+    /// RadiusFactor, in data units. Empty: PointSize / LineWidth radii. A tube takes the mean of
+    /// its two end points' radii.
+    std::string RadiusArray;
+    vtkPiecewiseFunction* RadiusFunction = nullptr;
+    double RadiusFactor = 1.0;
+    /// vtkPointGaussianMapper (ScaleFactor not 0): every splat (the vertices of vertex cells, or
+    /// every point when there are none) a sphere of radius ScaleFunction(ScaleArray value, or 1)
+    /// x ScaleFactor (RadiusArray, RadiusFunction, RadiusFactor, the component below); its
+    /// OpacityArray through ScalarOpacityFunction sets the alpha of mapped colours.
+    bool Gaussian = false;
+    int RadiusComponent = -1; ///< Component of RadiusArray for Gaussian splats (-1: magnitude).
+    std::string OpacityArray;
+    int OpacityComponent = -1;
+    vtkPiecewiseFunction* OpacityFunction = nullptr;
+    /// Latest MTime of the functions above, so that editing one converts again.
+    vtkMTimeType FunctionsTime = 0;
 
     auto Tie() const
     {
       return std::make_tuple(this->Representation, this->Flat, this->Spheres, this->Tubes,
-        this->PointSize, this->LineWidth, this->TCoords);
+        this->PointSize, this->LineWidth, this->TCoords, this->RadiusArray, this->RadiusFunction,
+        this->RadiusFactor, this->Gaussian, this->RadiusComponent, this->OpacityArray,
+        this->OpacityComponent, this->OpacityFunction, this->FunctionsTime);
     }
   };
 

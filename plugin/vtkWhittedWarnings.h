@@ -68,7 +68,11 @@ public:
     // Environment (vtkSkybox) that reflections cannot sample as drawn
     StereoSkybox = 1u << 24,
     SkyboxCubeFaces = 1u << 25,
-    FloorSkybox = 1u << 26
+    FloorSkybox = 1u << 26,
+
+    // Glyphs (vtkGlyph3DMapper)
+    GlyphSourceTableTree = 1u << 27,
+    GlyphArrays = 1u << 28
   };
 
   /// Object the warnings are printed for (the pass).

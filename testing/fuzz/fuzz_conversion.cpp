@@ -25,6 +25,7 @@
 #include "vtkCompositePolyDataMapper2.h"
 #include "vtkDataArray.h"
 #include "vtkDataSetMapper.h"
+#include "vtkGlyph3DMapper.h"
 #include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
 #include "vtkImageData.h"
@@ -39,6 +40,10 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkInformationObjectBaseKey.h"
+#include "vtkInformationStringKey.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointGaussianMapper.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
@@ -65,6 +70,8 @@ vtkInformationKeyMacro(vtkWhittedPass, TRANSMITTANCE, DoubleVector);
 vtkInformationKeyMacro(vtkWhittedPass, INDEX_OF_REFRACTION, Double);
 vtkInformationKeyMacro(vtkWhittedPass, ATTENUATION_COLOR, DoubleVector);
 vtkInformationKeyMacro(vtkWhittedPass, ATTENUATION_DISTANCE, Double);
+vtkInformationKeyMacro(vtkWhittedPass, RADIUS_ARRAY, String);
+vtkInformationKeyMacro(vtkWhittedPass, RADIUS_FUNCTION, ObjectBase);
 
 namespace {
 struct Reader : whitted_fuzz::Bytes {
@@ -362,12 +369,83 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
   return 0;
 }
 
-/// The mapper: plain, composite over a multiblock (empty leaves, block attributes), dataset mapper;
-/// then its colouring settings.
-vtkSmartPointer<vtkMapper> RandomMapper(Reader& r, vtkPolyData* poly) {
+/// A glyph mapper over poly's points: one or two sources (poly itself, an empty polydata), and the
+/// placement settings with arrays chosen by name (a0..a9: any array RandomPolyData made, or none).
+vtkSmartPointer<vtkMapper> RandomGlyphMapper(Reader& r, vtkPolyData* poly) {
+  auto glyphs = vtkSmartPointer<vtkGlyph3DMapper>::New();
+  glyphs->SetInputData(poly);
+  const vtkSmartPointer<vtkPolyData> source = r.bit() ? RandomPolyData(r) : vtkSmartPointer<vtkPolyData>(poly);
+  glyphs->SetSourceData(0, source);
+  if (r.bit()) {
+    glyphs->SetSourceData(1, vtkSmartPointer<vtkPolyData>::New());
+  }
+  auto name = [&r]() { return "a" + std::to_string(r.u8() % 10); };
+  glyphs->SetScaling(r.bit());
+  glyphs->SetScaleMode(r.u8() % 3);
+  glyphs->SetScaleFactor(r.value());
+  glyphs->SetRange(r.value(), r.value());
+  glyphs->SetClamping(r.bit());
+  glyphs->SetScaleArray(name().c_str());
+  glyphs->SetOrient(r.bit());
+  glyphs->SetOrientationMode(r.u8() % 3);
+  glyphs->SetOrientationArray(name().c_str());
+  glyphs->SetSourceIndexing(r.bit());
+  glyphs->SetSourceIndexArray(name().c_str());
+  glyphs->SetMasking(r.bit());
+  glyphs->SetMaskArray(name().c_str());
+  return glyphs;
+}
+
+/// A piecewise function of 0 to 3 random points.
+vtkSmartPointer<vtkPiecewiseFunction> RandomFunction(Reader& r) {
+  auto f = vtkSmartPointer<vtkPiecewiseFunction>::New();
+  for (int i = r.u8() % 4; i > 0; --i) {
+    f->AddPoint(r.value(), r.value());
+  }
+  return f;
+}
+
+/// Per-point radius keys on a property: an array by name, maybe a function.
+void RandomRadiusKeys(Reader& r, vtkProperty* p) {
+  p->GetInformation()->Set(vtkWhittedPass::RADIUS_ARRAY(), ("a" + std::to_string(r.u8() % 10)).c_str());
+  if (r.bit()) {
+    p->GetInformation()->Set(vtkWhittedPass::RADIUS_FUNCTION(), RandomFunction(r));
+  }
+}
+
+/// A Point Gaussian mapper: scale and opacity arrays by name, transfer functions, scale factor.
+vtkSmartPointer<vtkMapper> RandomGaussianMapper(Reader& r, vtkPolyData* poly) {
+  auto gaussian = vtkSmartPointer<vtkPointGaussianMapper>::New();
+  gaussian->SetInputData(poly);
+  auto function = [&r]() { return RandomFunction(r); };
+  if (r.bit()) {
+    gaussian->SetScaleArray(("a" + std::to_string(r.u8() % 10)).c_str());
+  }
+  gaussian->SetScaleArrayComponent(static_cast<int>(r.u8() % 5) - 1);
+  gaussian->SetScaleFunction(r.bit() ? function() : nullptr);
+  gaussian->SetScaleFactor(r.value());
+  if (r.bit()) {
+    gaussian->SetOpacityArray(("a" + std::to_string(r.u8() % 10)).c_str());
+  }
+  gaussian->SetOpacityArrayComponent(static_cast<int>(r.u8() % 5) - 1);
+  gaussian->SetScalarOpacityFunction(r.bit() ? function() : nullptr);
+  return gaussian;
+}
+
+/// The mapper: plain, composite over a multiblock (empty leaves, block attributes), dataset mapper,
+/// and rarely (kind bytes 250-255, so earlier corpus inputs keep their meaning) a glyph or Point
+/// Gaussian mapper, or a plain one whose actor gets per-point radius keys (radiusKeys); then its
+/// colouring settings.
+vtkSmartPointer<vtkMapper> RandomMapper(Reader& r, vtkPolyData* poly, bool& radiusKeys) {
   vtkSmartPointer<vtkMapper> mapper;
-  const int kind = r.u8() % 3;
-  if (kind == 1) {
+  const uint8_t kindByte = r.u8();
+  const int kind = kindByte >= 250 ? 3 + kindByte % 3 : kindByte % 3;
+  radiusKeys = kind == 5;
+  if (kind == 3) {
+    mapper = RandomGlyphMapper(r, poly);
+  } else if (kind == 4) {
+    mapper = RandomGaussianMapper(r, poly);
+  } else if (kind == 1) {
     vtkNew<vtkMultiBlockDataSet> mb;
     mb->SetNumberOfBlocks(4);
     mb->SetBlock(0, poly);
@@ -483,12 +561,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   Reader r{data, size};
   vtkNew<vtkRenderer> ren;
   vtkSmartPointer<vtkPolyData> poly = RandomPolyData(r);
-  vtkSmartPointer<vtkMapper> mapper = RandomMapper(r, poly);
+  bool radiusKeys = false;
+  vtkSmartPointer<vtkMapper> mapper = RandomMapper(r, poly, radiusKeys);
 
   // Actors (a second one on the same mapper: instancing), lights, background
   vtkNew<vtkActor> actor;
   actor->SetMapper(mapper);
   RandomProperty(r, actor->GetProperty());
+  if (radiusKeys) {
+    RandomRadiusKeys(r, actor->GetProperty());
+  }
   RandomTransform(r, actor);
   if (r.u8() % 4 == 0) {
     actor->SetTexture(RandomTexture(r));

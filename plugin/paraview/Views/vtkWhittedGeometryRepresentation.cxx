@@ -3,8 +3,11 @@
 #include "vtkInformation.h"
 #include "vtkInformationDoubleKey.h"
 #include "vtkInformationDoubleVectorKey.h"
+#include "vtkInformationObjectBaseKey.h"
+#include "vtkInformationStringKey.h"
 #include "vtkObjectFactory.h"
 #include "vtkPVLODActor.h"
+#include "vtkPiecewiseFunction.h"
 #include "vtkProperty.h"
 #include "vtkWhittedMaterialLibrary.h"
 #include "vtkWhittedPass.h"
@@ -164,6 +167,51 @@ void vtkWhittedGeometryRepresentation::SetLibraryMaterial(const char* name)
 }
 
 //------------------------------------------------------------------------------
+void vtkWhittedGeometryRepresentation::SetEnableScaling(int mode)
+{
+  this->Superclass::SetEnableScaling(mode);
+  this->ScalingMode = mode;
+  this->UpdateRadiusKeys();
+}
+
+void vtkWhittedGeometryRepresentation::SetScalingArrayName(const char* name)
+{
+  this->Superclass::SetScalingArrayName(name);
+  this->ScalingArray = name ? name : "";
+  this->UpdateRadiusKeys();
+}
+
+void vtkWhittedGeometryRepresentation::SetScalingFunction(vtkPiecewiseFunction* function)
+{
+  this->Superclass::SetScalingFunction(function);
+  this->ScalingFunction = function;
+  this->UpdateRadiusKeys();
+}
+
+void vtkWhittedGeometryRepresentation::UpdateRadiusKeys()
+{
+  // OSPRay's modes: -1 All Exact, 0 All Approximate, 1 Each Scaled, 2 Each Exact
+  vtkInformation* info = this->Property->GetInformation();
+  if (this->ScalingMode >= 1 && !this->ScalingArray.empty())
+  {
+    info->Set(vtkWhittedPass::RADIUS_ARRAY(), this->ScalingArray.c_str());
+  }
+  else
+  {
+    info->Remove(vtkWhittedPass::RADIUS_ARRAY());
+  }
+  if (this->ScalingMode == 1 && this->ScalingFunction)
+  {
+    info->Set(vtkWhittedPass::RADIUS_FUNCTION(), this->ScalingFunction);
+  }
+  else
+  {
+    info->Remove(vtkWhittedPass::RADIUS_FUNCTION());
+  }
+  this->Property->Modified();
+}
+
+//------------------------------------------------------------------------------
 void vtkWhittedGeometryRepresentation::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
@@ -180,4 +228,6 @@ void vtkWhittedGeometryRepresentation::PrintSelf(ostream& os, vtkIndent indent)
      << "\n";
   os << indent << "LibraryMaterial: " << (this->LibraryMaterial ? this->LibraryMaterial : "(none)")
      << "\n";
+  os << indent << "ScalingMode: " << this->ScalingMode << "\n";
+  os << indent << "ScalingArray: " << this->ScalingArray << "\n";
 }

@@ -24,6 +24,14 @@
  *   material is applied (vtkWhittedMaterialLibrary::ApplyMaterial) instead of the fields above.
  *   Default none.
  *
+ * Per-point radii: ParaView's OSPRay scaling properties of the representation (Scaling Mode
+ * "OSPRayUseScaleArray", Scale Array, Scale Function; hidden in the GUI of a ParaView without ray
+ * tracing, settable from Python), which Debian's ParaView ignores, set the pass's radius keys
+ * instead: Each Exact (2) -> vtkWhittedPass::RADIUS_ARRAY (points as spheres, lines as tubes take
+ * the array's value as radius), Each Scaled (1) -> RADIUS_ARRAY and RADIUS_FUNCTION (values through
+ * the Scale Function); All Approximate (0, the default) and All Exact (-1) leave them unset
+ * (PointSize / LineWidth radii).
+ *
  * The server-manager XML (xml/WhittedView.xml) adds it as representation type "Whitted Surface" to
  * ParaView's Geometry (polygonal and any other data set), UnstructuredGrid, StructuredGrid and
  * UniformGrid representations; the other properties (colouring, opacity, specular, ...) are shared
@@ -39,6 +47,9 @@
 #include "vtkGeometryRepresentationWithFaces.h"
 #include "vtkSmartPointer.h" // for vtkSmartPointer
 
+#include <string> // for std::string
+
+class vtkPiecewiseFunction;
 class vtkWhittedMaterialLibrary;
 
 class WHITTEDPARAVIEW_EXPORT vtkWhittedGeometryRepresentation
@@ -73,6 +84,15 @@ public:
   vtkGetStringMacro(LibraryMaterial);
   ///@}
 
+  ///@{
+  /**
+   * OSPRay scaling properties, forwarded as the pass's radius keys (see class documentation).
+   */
+  void SetEnableScaling(int mode) override;
+  void SetScalingArrayName(const char* name) override;
+  void SetScalingFunction(vtkPiecewiseFunction* function) override;
+  ///@}
+
 protected:
   vtkWhittedGeometryRepresentation();
   ~vtkWhittedGeometryRepresentation() override;
@@ -86,10 +106,15 @@ protected:
   double AttenuationDistance = 1.0;
   char* MaterialLibrary = nullptr;
   char* LibraryMaterial = nullptr;
+  int ScalingMode = 0;
+  std::string ScalingArray;
+  vtkSmartPointer<vtkPiecewiseFunction> ScalingFunction;
 
 private:
   // Writes the keys of the preset, the library material or the fields onto the actor's property.
   void UpdateMaterialKeys();
+  // Writes (or removes) the radius keys from the scaling mode, array and function.
+  void UpdateRadiusKeys();
   // Sets a field (a colour) and updates the keys if it changed.
   template <typename T>
   void Assign(T& field, T value);

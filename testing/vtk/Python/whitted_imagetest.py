@@ -50,3 +50,51 @@ def near(mask, other):
             grown |= np.roll(np.roll(other, dy, 0), dx, 1)
     return (mask & grown).sum() / max(1, mask.sum())
 
+
+def grab_with_depth(window):
+    """The window's back buffer as int RGB (0..255) and its depth buffer, both numpy arrays, rows bottom to top."""
+    from vtkmodules.vtkCommonCore import vtkFloatArray
+
+    rgb = grab(window).astype(int)
+    h, w = rgb.shape[:2]
+    z = vtkFloatArray()
+    window.GetZbufferData(0, 0, w - 1, h - 1, z)
+    return rgb, vtk_to_numpy(z).reshape(h, w).copy()
+
+
+def quad_actor(origin, point1, point2, color, reflectance=None):
+    """A plane source's quad as an actor of the given colour; reflectance sets the Whitted REFLECTANCE key."""
+    from vtkmodules.vtkFiltersSources import vtkPlaneSource
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
+
+    plane = vtkPlaneSource()
+    plane.SetOrigin(*origin)
+    plane.SetPoint1(*point1)
+    plane.SetPoint2(*point2)
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputConnection(plane.GetOutputPort())
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    actor.GetProperty().SetColor(*color)
+    if reflectance is not None:
+        from whitted import vtkWhittedPass
+
+        actor.GetProperty().GetInformation().Set(vtkWhittedPass.REFLECTANCE(), [reflectance], 1)
+    return actor
+
+
+def light_and_camera(ren, light_position, eye, focal):
+    """A positional light shining every way from light_position, the test background, a camera at eye looking at
+    focal (clipping range reset)."""
+    from vtkmodules.vtkRenderingCore import vtkLight
+
+    light = vtkLight()
+    light.SetPositional(True)
+    light.SetPosition(*light_position)
+    light.SetConeAngle(180)
+    ren.AddLight(light)
+    ren.SetBackground(0.2, 0.22, 0.3)
+    camera = ren.GetActiveCamera()
+    camera.SetPosition(*eye)
+    camera.SetFocalPoint(*focal)
+    ren.ResetCameraClippingRange()
