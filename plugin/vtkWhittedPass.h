@@ -87,8 +87,11 @@ public:
    * Fresnel: exact dielectric Fresnel at refracting surfaces.
    * ContributionThreshold: secondary rays of a smaller path weight are not traced.
    * TargetError, TimeBudget: progressive refinement of still frames, steered by the per-pixel error
-   * estimate (GetLastErrorImage): samples go where the estimated sampling error is largest until
+   * estimate (GetLastErrorImage): the pixels whose estimate is largest get more samples, or are
+   * traced again at a deeper depth and lower threshold where the truncation bound dominates, until
    * the estimated error's RMS is at most TargetError or TimeBudget seconds of tracing are spent.
+   * ShowErrorImage, ErrorImageScale: draw the estimated error (grey = scale x error) instead of
+   * the rendering.
    * NumberOfThreads: tracing threads; 0 = every core the process may run on.
    */
   vtkSetClampMacro(
@@ -121,6 +124,12 @@ public:
   vtkSetClampMacro(TimeBudget, double, vtkWhittedSettings::TimeBudget.Minimum,
     vtkWhittedSettings::TimeBudget.Maximum);
   vtkGetMacro(TimeBudget, double);
+  vtkSetMacro(ShowErrorImage, bool);
+  vtkGetMacro(ShowErrorImage, bool);
+  vtkBooleanMacro(ShowErrorImage, bool);
+  vtkSetClampMacro(ErrorImageScale, double, vtkWhittedSettings::ErrorImageScale.Minimum,
+    vtkWhittedSettings::ErrorImageScale.Maximum);
+  vtkGetMacro(ErrorImageScale, double);
   vtkSetClampMacro(NumberOfThreads, int, vtkWhittedSettings::NumberOfThreads.Minimum,
     vtkWhittedSettings::NumberOfThreads.Maximum);
   vtkGetMacro(NumberOfThreads, int);
@@ -149,6 +158,20 @@ public:
   vtkSetClampMacro(
     InteractiveImageReduction, int, 1, vtkWhittedSettings::MaximumImageReduction.Maximum);
   vtkGetMacro(InteractiveImageReduction, int);
+  ///@}
+
+  ///@{
+  /**
+   * Progressive display of still frames that refine (TargetError or TimeBudget): with
+   * RefinementRoundsPerFrame N > 0 a still frame runs at most N refinement rounds and keeps its
+   * per-pixel sums; the next still Render() with the same camera, size, props, lights and settings
+   * continues from them, so rendering again while GetLastFrameStatistics()->GetRefinementFinished()
+   * is false shows the image improve round by round (TimeBudget counts the tracing time of all
+   * those frames). An interactive frame or any change starts over. 0 (the default): every still
+   * frame refines fully.
+   */
+  vtkSetClampMacro(RefinementRoundsPerFrame, int, 0, 1024);
+  vtkGetMacro(RefinementRoundsPerFrame, int);
   ///@}
 
   ///@{
@@ -240,6 +263,9 @@ protected:
   double TargetError = vtkWhittedSettings::TargetError.Default;
   double TimeBudget = vtkWhittedSettings::TimeBudget.Default;
   int NumberOfThreads = vtkWhittedSettings::NumberOfThreads.Default;
+  bool ShowErrorImage = vtkWhittedSettings::ShowErrorImage.Default;
+  double ErrorImageScale = vtkWhittedSettings::ErrorImageScale.Default;
+  int RefinementRoundsPerFrame = 0;
   bool Interactive = false;
   int InteractiveMaxDepth = vtkWhittedSettings::InteractiveMaxDepth.Default;
   bool InteractiveShadows = vtkWhittedSettings::InteractiveShadows.Default;
