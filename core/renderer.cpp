@@ -410,6 +410,7 @@ class FrameJob {
   }
 
   enum : uint8_t { kKeep = 0, kSample = 1, kLoosen = 2 };
+  static constexpr int kFirstStrata = 4;  ///< A refined one-sample pixel's first stratified grid.
 
   // The integrator settings of a loosening level: maxDepth doubled (at least +2, at most 64) and the threshold
   // divided by 16 per level
@@ -453,6 +454,16 @@ class FrameJob {
         fresh.level = ps.level + 1;
         addSamples(px, py, 0, ps.n, integratorAt(fresh.level), fresh, st, rowBackground);
         retraced += std::size_t(ps.n);
+        ps = fresh;
+      } else if (ps.n == 1 && ps.strata == 1 && maxSamples >= kFirstStrata) {
+        // Only the centre sample: replaced by a jittered 2x2 grid (as adaptive sampling's second pass does),
+        // which later rounds continue with the sequence
+        PixelSums fresh;
+        fresh.strata = kFirstStrata;
+        fresh.level = ps.level;
+        addSamples(px, py, 0, kFirstStrata, integratorAt(fresh.level), fresh, st, rowBackground);
+        samples += kFirstStrata - 1;
+        retraced += 1;
         ps = fresh;
       } else {
         const int add = std::min(ps.n, maxSamples - ps.n);

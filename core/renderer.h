@@ -94,8 +94,9 @@ struct RenderSettings {
   /// pixels whose estimate (truncation bound + sampling estimate) is largest; a picked pixel whose truncation
   /// bound is at least its sampling estimate is traced again with its samples at the next loosening level
   /// (maxDepth doubled, at least +2, up to 64; contribution threshold / 16; at most kMaxLoosening levels), the
-  /// others get more samples. Extra samples continue a low-discrepancy sequence (R2, rotated per pixel) after the
-  /// first pass's stratified grid.
+  /// others get more samples: a pixel with only its centre sample gets a jittered 2x2 grid instead (as adaptive
+  /// sampling does), any other twice its samples, continuing a low-discrepancy sequence (R2, rotated per pixel)
+  /// after its stratified grid.
   double targetError = 0.0;
   double timeBudget = 0.0;  ///< Seconds for the whole frame; checked between tiles (overshoot <= one tile).
   int maxProgressiveSamples = 256;  ///< Most samples a pixel gets from refinement. Default 256.
