@@ -284,8 +284,8 @@ TEST(ErrorEstimate, TargetBelowTruncationBoundLoosensDepthAndThreshold) {
   render(s, cam, deep, 48, 36, ref);
   for (std::size_t i = 0; i < out.color.size(); ++i) {
     if (out.samples[i] != 1) continue;  // only pixels with the same single centre sample as the reference
-    const Color4 d = glm::clamp(ref.color[i], Color4(0.0f), Color4(1.0f)) -
-                     glm::clamp(out.color[i], Color4(0.0f), Color4(1.0f));
+    const Color4 d =
+        glm::clamp(ref.color[i], Color4(0.0f), Color4(1.0f)) - glm::clamp(out.color[i], Color4(0.0f), Color4(1.0f));
     const float under = std::max(std::max(d.x, d.y), d.z);
     EXPECT_LE(under, out.truncation[i] + 1e-4f) << i;
   }

@@ -602,9 +602,9 @@ class FrameJob {
   std::vector<RayStats> tileStats_;
   std::vector<uint8_t> hitMask_, marks_;
   bool progressive_ = false;
-  std::vector<PixelSums> acc_;  ///< Per-pixel sums, kept for progressive refinement.
+  std::vector<PixelSums> acc_;                                     ///< Per-pixel sums, kept for progressive refinement.
   std::optional<std::chrono::steady_clock::time_point> deadline_;  ///< Refinement stops taking tiles past it.
-  std::vector<std::unique_ptr<Integrator>> levels_;  ///< Loosening levels 1.. (progressive refinement).
+  std::vector<std::unique_ptr<Integrator>> levels_;                ///< Loosening levels 1.. (progressive refinement).
   std::atomic<uint64_t> samples_{0}, supersampled_{0}, retraced_{0};
   std::atomic<double> longestTile_{0.0};
   bool aborted_ = false;

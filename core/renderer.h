@@ -46,9 +46,9 @@ struct ErrorSummary {
 
 /// Running sums of one pixel's camera samples, kept for progressive refinement.
 struct PixelSums {
-  Color sum{0.0f}, sum2{0.0f};  ///< Sum of the samples' colours and of their squares.
+  Color sum{0.0f}, sum2{0.0f};                   ///< Sum of the samples' colours and of their squares.
   float alpha = 0.0f, err = 0.0f, depth = 1.0f;  ///< Sums of alpha and truncation bounds; nearest depth.
-  int n = 0;       ///< Samples summed (0: the pixel is not traced by this process).
+  int n = 0;                                     ///< Samples summed (0: the pixel is not traced by this process).
   int strata = 1;  ///< Samples of the first pass (a stratified grid); later samples continue a 2D sequence.
   int level = 0;   ///< Loosening level the samples were traced at (see RenderSettings::targetError).
   bool anyHit = false;
@@ -62,10 +62,10 @@ struct PixelSums {
 struct RefinementState {
   std::vector<PixelSums> pixels;  ///< Per-pixel sums, rows bottom to top; empty before the first call.
   int width = 0, height = 0;
-  double seconds = 0.0;           ///< Tracing seconds spent on this frame over all calls.
-  int rounds = 0;                 ///< Refinement rounds run over all calls.
-  uint64_t samples = 0;           ///< Camera samples traced over all calls.
-  bool finished = false;          ///< Target met, budget spent or nothing left to refine: a call adds nothing.
+  double seconds = 0.0;   ///< Tracing seconds spent on this frame over all calls.
+  int rounds = 0;         ///< Refinement rounds run over all calls.
+  uint64_t samples = 0;   ///< Camera samples traced over all calls.
+  bool finished = false;  ///< Target met, budget spent or nothing left to refine: a call adds nothing.
   std::vector<std::pair<double, double>> progress;  ///< As FrameStats::progress, over all calls.
   void reset() { *this = RefinementState{}; }
 };
@@ -98,7 +98,7 @@ struct RenderSettings {
   /// sampling does), any other twice its samples, continuing a low-discrepancy sequence (R2, rotated per pixel)
   /// after its stratified grid.
   double targetError = 0.0;
-  double timeBudget = 0.0;  ///< Seconds for the whole frame; checked between tiles (overshoot <= one tile).
+  double timeBudget = 0.0;          ///< Seconds for the whole frame; checked between tiles (overshoot <= one tile).
   int maxProgressiveSamples = 256;  ///< Most samples a pixel gets from refinement. Default 256.
   /// Progressive display: state kept between calls (see RefinementState); null (the default): every call is a
   /// whole frame.

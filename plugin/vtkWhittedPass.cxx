@@ -14,8 +14,8 @@
 #include "vtkImageData.h"
 #include "vtkInformationDoubleKey.h"
 #include "vtkInformationDoubleVectorKey.h"
-#include "vtkLightCollection.h"
 #include "vtkLight.h"
+#include "vtkLightCollection.h"
 #include "vtkLightsPass.h"
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
@@ -132,7 +132,8 @@ public:
   };
   whitted::RefinementState Refinement;
   FrameKey RefinementKey;
-  static FrameKey KeyOf(vtkWhittedPass* pass, vtkRenderer* ren, const vtkMatrix4x4* view, int w, int h);
+  static FrameKey KeyOf(
+    vtkWhittedPass* pass, vtkRenderer* ren, const vtkMatrix4x4* view, int w, int h);
 
   // Error image display: the traced frame with every traced pixel's colour replaced by its grey
   // level (see vtkWhittedPass::ShowErrorImage)
@@ -507,7 +508,8 @@ int vtkWhittedPassInternals::Composite(const vtkRenderState* s, vtkOpenGLRenderW
     this->OpaquePass->Render(&bgState);
     rendered += this->OpaquePass->GetNumberOfRenderedProps();
   }
-  if (!this->Compositor.Draw(win, this->DisplayedFrame(this->Parent), viewport[0], viewport[1], viewport[2], viewport[3]))
+  if (!this->Compositor.Draw(win, this->DisplayedFrame(this->Parent), viewport[0], viewport[1],
+        viewport[2], viewport[3]))
   {
     vtkErrorWithObjectMacro(this->Parent, "Could not build the compositing shader.");
   }

@@ -17,7 +17,8 @@ void vtkPVWhittedPass::SetEnvironment(const double bottom[3], const double top[3
   this->HasEnvironment = true;
   for (int i = 0; i < 3; ++i)
   {
-    changed = changed || this->EnvironmentBottom[i] != bottom[i] || this->EnvironmentTop[i] != top[i];
+    changed =
+      changed || this->EnvironmentBottom[i] != bottom[i] || this->EnvironmentTop[i] != top[i];
     this->EnvironmentBottom[i] = bottom[i];
     this->EnvironmentTop[i] = top[i];
   }

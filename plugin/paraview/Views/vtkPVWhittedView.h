@@ -24,11 +24,11 @@
  * scene; each rank traces an interleaved share of the pixels (vtkWhittedPass::SetImageSplit) and
  * IceT's depth or ordered-blend compositing assembles the frame. The memory cost is one full copy
  * of the rendered geometry per rank (see README).
- * - Progressive display (ProgressiveDisplay, on by default): a still frame that refines (TargetError
- * or TimeBudget) runs one refinement round per frame in the GUI, and the view renders again (a
- * one-shot timer on its interactor, which ParaView turns into a still render) until the refinement
- * is over; the camera or anything else changing starts over, and interaction cancels the timer.
- * Scripts set RefinementRoundsPerRender and render again while RefinementUnfinished is 1.
+ * - Progressive display (ProgressiveDisplay, on by default): a still frame that refines
+ * (TargetError or TimeBudget) runs one refinement round per frame in the GUI, and the view renders
+ * again (a one-shot timer on its interactor, which ParaView turns into a still render) until the
+ * refinement is over; the camera or anything else changing starts over, and interaction cancels the
+ * timer. Scripts set RefinementRoundsPerRender and render again while RefinementUnfinished is 1.
  * - Error display: ShowErrorAnnotation puts the last frame's time, samples, estimated error and
  * target status in the lower left corner (a text actor in the non-composited renderer, like the
  * render view's own annotations); ShowErrorImage shows the per-pixel error instead of the image.
