@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <utility>
@@ -95,30 +96,64 @@ class FrameJob {
     FrameStats fs;
     auto start = std::chrono::steady_clock::now();
     progressive_ = s_.errorEstimates && (s_.targetError > 0.0 || s_.timeBudget > 0.0);
-    if (progressive_) acc_.assign(std::size_t(w_) * h_, PixelSums{});
+    // Progressive display: continue the frame whose sums the caller kept, if it is this size
+    RefinementState* keep = progressive_ ? s_.refinement : nullptr;
+    const bool resume = keep && !keep->pixels.empty() && keep->width == w_ && keep->height == h_ &&
+                        keep->pixels.size() == std::size_t(w_) * h_;
+    if (keep && !resume) keep->reset();
+    if (resume) {
+      acc_ = std::move(keep->pixels);
+    } else if (progressive_) {
+      acc_.assign(std::size_t(w_) * h_, PixelSums{});
+    }
     int n = s_.samplesPerPixel < 1 ? 1 : s_.samplesPerPixel;
     int threads = s_.threads > 0 ? s_.threads : hardwareThreads();
     fs.threads = threads;
     bool adaptive = s_.adaptive && n > 1;
-    // Pass 1: the full sample set, or only centres in adaptive mode
-    runPass(threads, [&](int tile) { tracePixels(tile, adaptive ? 1 : n, false); });
-    // Pass 2 (adaptive): full sample set where neighbouring centre samples disagree
-    if (adaptive && !aborted_) {
-      marks_.assign(std::size_t(w_) * h_, 0);
-      markDisagreements();
-      runPass(threads, [&](int tile) { tracePixels(tile, n, true); });
+    if (resume) {
+      restorePixels();
+    } else {
+      // Pass 1: the full sample set, or only centres in adaptive mode
+      runPass(threads, [&](int tile) { tracePixels(tile, adaptive ? 1 : n, false); });
+      // Pass 2 (adaptive): full sample set where neighbouring centre samples disagree
+      if (adaptive && !aborted_) {
+        marks_.assign(std::size_t(w_) * h_, 0);
+        markDisagreements();
+        runPass(threads, [&](int tile) { tracePixels(tile, n, true); });
+      }
     }
     // The neighbour part of the sampling estimate, from the final colours
     if (s_.errorEstimates) {
       if (!aborted_) runPass(threads, [&](int tile) { estimateFromNeighbours(tile); }, false, false);
       summarizeErrors(fs);
-      if (progressive_) refine(threads, start, fs);
+      if (progressive_) {
+        if (resume) {
+          fs.refinementRounds = keep->rounds;
+          fs.progress = keep->progress;
+        }
+        const double before = resume ? keep->seconds : 0.0;
+        if (resume && keep->finished)
+          fs.targetMet = s_.targetError > 0.0 && fs.total.rms <= s_.targetError;
+        else
+          refine(threads, start, before, fs);
+      }
     }
     fs.secondsTrace = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (keep) {
+      keep->seconds += fs.secondsTrace;
+      keep->samples += samples_.load();
+      keep->rounds = fs.refinementRounds;
+      keep->progress = fs.progress;
+      keep->finished = fs.refinementFinished;
+      keep->width = w_;
+      keep->height = h_;
+      keep->pixels = std::move(acc_);
+    }
 
     // Deterministic reductions (fixed order, independent of thread count)
     for (const RayStats& r : tileStats_) fs.rays += r;
-    fs.samples = samples_.load();
+    fs.samples = keep ? keep->samples : samples_.load();
+    fs.samplesRetraced = retraced_.load();
     fs.pixelsSupersampled = supersampled_.load();
     fs.longestTileSeconds = longestTile_.load();
     fs.aborted = aborted_;
@@ -221,24 +256,24 @@ class FrameJob {
     return scene_.background;
   }
 
-  /// A pixel's running sums over its samples.
-  struct PixelSums {
-    Color sum{0.0f}, sum2{0.0f};
-    float alpha = 0.0f, err = 0.0f, depth = 1.0f;
-    int n = 0;
-    bool anyHit = false;
-  };
+  // Position of a pixel's sample s after the first pass's strata (progressive refinement): the 2D R2
+  // low-discrepancy sequence (Roberts), rotated per pixel (Cranley-Patterson), so that every prefix of the extra
+  // samples covers the pixel evenly
+  static Vec2 sequencePos(int px, int py, int k) {
+    constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532;  // 1/g, 1/g^2 for g^3 = g + 1
+    const double x = hashFloat(uint32_t(px), uint32_t(py), 0x52325232u, 2u) + a1 * k;
+    const double y = hashFloat(uint32_t(px), uint32_t(py), 0x52325232u, 3u) + a2 * k;
+    return Vec2(px + (x - std::floor(x)), py + (y - std::floor(y)));
+  }
 
-  // Adds samples [first, last) of pixel (px, py) to ps; sample s of a pixel is at samplePos(s, strata) while
-  // s < strata, uniformly jittered over the pixel beyond (progressive refinement)
-  void addSamples(int px, int py, int first, int last, int strata, PixelSums& ps, RayStats& st,
+  // Adds samples [first, last) of pixel (px, py) to ps, traced by integ; sample s of a pixel is at
+  // samplePos(s, ps.strata) while s < ps.strata, on the pixel's sequence beyond (progressive refinement)
+  void addSamples(int px, int py, int first, int last, const Integrator& integ, PixelSums& ps, RayStats& st,
                   const Color& rowBackground) const {
     for (int s = first; s < last; ++s) {
-      const Vec2 p = s < strata ? samplePos(px, py, s, strata)
-                                : Vec2(px + hashFloat(uint32_t(px), uint32_t(py), uint32_t(s), 2u),
-                                       py + hashFloat(uint32_t(px), uint32_t(py), uint32_t(s), 3u));
+      const Vec2 p = s < ps.strata ? samplePos(px, py, s, ps.strata) : sequencePos(px, py, s - ps.strata);
       Ray r = camera_.rayPixel(p.x, p.y, w_, h_);
-      Sample smp = integ_.trace(r, st, rowBackground);
+      Sample smp = integ.trace(r, st, rowBackground);
       ps.sum += smp.color;  // premultiplied; a miss carries backgroundAlpha x the screen background
       ps.sum2 += smp.color * smp.color;
       if (smp.hit) {
@@ -293,7 +328,8 @@ class FrameJob {
     forTilePixels(tileSlot, [&](int px, int py, std::size_t idx, const Color& rowBackground) {
       if (refineOnly && !marks_[idx]) return;
       PixelSums ps;
-      addSamples(px, py, 0, n, n, ps, st, rowBackground);
+      ps.strata = n;
+      addSamples(px, py, 0, n, integ_, ps, st, rowBackground);
       samples += n;
       if (refineOnly) ++refined;
       writePixel(idx, ps, st);
@@ -303,39 +339,69 @@ class FrameJob {
     supersampled_ += refined;
   }
 
-  // Progressive rounds: double the samples of the pixels whose sampling estimate is largest (the top quarter of
-  // the pixels that can still be refined, and only those above half the target), re-estimate, until the target
-  // is met, the budget is spent or nothing is left to refine
-  void refine(int threads, std::chrono::steady_clock::time_point start, FrameStats& fs) {
-    auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  // Progressive rounds: pick the pixels whose estimate (truncation bound + sampling estimate) is largest (the top
+  // quarter of the pixels that can still be refined, and only those above half the target); a picked pixel whose
+  // truncation bound dominates is traced again one loosening level deeper, the others get twice their samples;
+  // re-estimate, until the target is met, the budget is spent, nothing is left to refine or the call's rounds
+  // are used (progressive display). before: tracing seconds earlier calls spent on this frame.
+  void refine(int threads, std::chrono::steady_clock::time_point start, double before, FrameStats& fs) {
+    auto elapsed = [&] {
+      return before + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
     const int maxSamples = std::clamp(s_.maxProgressiveSamples, 1, 65535);
     if (s_.timeBudget > 0.0)
       deadline_ = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                              std::chrono::duration<double>(s_.timeBudget));
-    fs.progress.emplace_back(elapsed(), fs.total.rms);
+                              std::chrono::duration<double>(s_.timeBudget - before));
+    if (fs.progress.empty()) fs.progress.emplace_back(elapsed(), fs.total.rms);
     marks_.assign(std::size_t(w_) * h_, 0);
+    const int maxLevel = loosestLevel();
+    int rounds = 0;
+    fs.refinementFinished = false;
     for (;;) {
       fs.targetMet = s_.targetError > 0.0 && fs.total.rms <= s_.targetError;
-      if (fs.targetMet || aborted_ || (deadline_ && std::chrono::steady_clock::now() >= *deadline_)) break;
-      // Samples reduce only the sampling part: a target below the truncation bound's RMS is out of their reach
-      if (s_.targetError > 0.0 && fs.truncation.rms >= s_.targetError) break;
+      if (fs.targetMet || (deadline_ && std::chrono::steady_clock::now() >= *deadline_)) {
+        fs.refinementFinished = true;
+        break;
+      }
+      if (aborted_ || (s_.maxRefinementRounds > 0 && rounds >= s_.maxRefinementRounds)) break;
+      // What each pixel can still get: more samples (if its samples disagree), a looser level (if anything was
+      // cut)
+      auto canSample = [&](std::size_t i) { return acc_[i].n < maxSamples && fb_.sampling[i] > 0.0f; };
+      auto canLoosen = [&](std::size_t i) { return acc_[i].level < maxLevel && fb_.truncation[i] > 0.0f; };
+      auto estimate = [&](std::size_t i) { return fb_.truncation[i] + fb_.sampling[i]; };
       // The cut-off: the 75th percentile of the refinable pixels' estimates, at least half the target
       std::vector<float> candidates;
       for (std::size_t i = 0; i < acc_.size(); ++i)
-        if (fb_.traced[i] && acc_[i].n < maxSamples && fb_.sampling[i] > 0.0f) candidates.push_back(fb_.sampling[i]);
-      if (candidates.empty()) break;
+        if (fb_.traced[i] && (canSample(i) || canLoosen(i))) candidates.push_back(estimate(i));
+      if (candidates.empty()) {
+        fs.refinementFinished = true;
+        break;
+      }
       auto q = candidates.begin() + std::ptrdiff_t(candidates.size() * 3 / 4);
       std::nth_element(candidates.begin(), q, candidates.end());
       const float cut = std::max(*q, float(0.5 * s_.targetError));
       std::size_t marked = 0;
+      int deepest = 0;  // the loosest level a marked pixel is traced at this round
       for (std::size_t i = 0; i < acc_.size(); ++i) {
-        marks_[i] = fb_.traced[i] && acc_[i].n < maxSamples && fb_.sampling[i] >= cut && fb_.sampling[i] > 0.0f;
-        marked += marks_[i];
+        marks_[i] = kKeep;
+        if (!fb_.traced[i] || estimate(i) < cut || estimate(i) <= 0.0f) continue;
+        const bool sample = canSample(i), loosen = canLoosen(i);
+        if (loosen && (!sample || fb_.truncation[i] >= fb_.sampling[i]))
+          marks_[i] = kLoosen;
+        else if (sample)
+          marks_[i] = kSample;
+        if (marks_[i] != kKeep) deepest = std::max(deepest, acc_[i].level + (marks_[i] == kLoosen ? 1 : 0));
+        marked += marks_[i] != kKeep;
       }
-      if (marked == 0) break;
+      if (marked == 0) {
+        fs.refinementFinished = true;
+        break;
+      }
+      prepareLevels(deepest);
       runPass(
           threads, [&](int tile) { refinePixels(tile, maxSamples); }, false, true);
       ++fs.refinementRounds;
+      ++rounds;
       runPass(threads, [&](int tile) { estimateFromNeighbours(tile); }, false, false);
       summarizeErrors(fs);
       fs.progress.emplace_back(elapsed(), fs.total.rms);
@@ -343,20 +409,80 @@ class FrameJob {
     deadline_.reset();
   }
 
+  enum : uint8_t { kKeep = 0, kSample = 1, kLoosen = 2 };
+  static constexpr int kFirstStrata = 4;  ///< A refined one-sample pixel's first stratified grid.
+
+  // The integrator settings of a loosening level: maxDepth doubled (at least +2, at most 64) and the threshold
+  // divided by 16 per level
+  IntegratorSettings levelSettings(int level) const {
+    IntegratorSettings is = s_.integrator;
+    for (int k = 0; k < level; ++k) {
+      is.maxDepth = std::min(64, std::max(2 * is.maxDepth, is.maxDepth + 2));
+      is.contributionThreshold /= 16.0f;
+    }
+    return is;
+  }
+
+  // The deepest level that still loosens anything (levels past depth 64 and threshold ~0 change nothing)
+  int loosestLevel() const {
+    int level = 0;
+    while (level < kMaxLoosening) {
+      const IntegratorSettings a = levelSettings(level), b = levelSettings(level + 1);
+      if (a.maxDepth == b.maxDepth && a.contributionThreshold < 1e-6f) break;
+      ++level;
+    }
+    return level;
+  }
+
+  // Builds the integrators of levels 1..level not built yet (on the calling thread)
+  void prepareLevels(int level) {
+    while (int(levels_.size()) < level)
+      levels_.push_back(std::make_unique<Integrator>(scene_, levelSettings(int(levels_.size()) + 1), camera_.up()));
+  }
+  const Integrator& integratorAt(int level) const { return level == 0 ? integ_ : *levels_[std::size_t(level - 1)]; }
+
   void refinePixels(int tileSlot, int maxSamples) {
     RayStats& st = tileStats_[tileSlot];
-    uint64_t samples = 0;
+    uint64_t samples = 0, retraced = 0;
     forTilePixels(tileSlot, [&](int px, int py, std::size_t idx, const Color& rowBackground) {
-      if (!marks_[idx]) return;
+      if (marks_[idx] == kKeep) return;
       PixelSums& ps = acc_[idx];
-      const int add = std::min(ps.n, maxSamples - ps.n);
-      // The first pass's strata: samplesPerPixel, or 1 (the centre) for pixels adaptive sampling left alone
-      addSamples(px, py, ps.n, ps.n + add, ps.n, ps, st, rowBackground);
-      samples += add;
-      marks_[idx] = 0;
+      if (marks_[idx] == kLoosen) {
+        // The same samples again, one level looser
+        PixelSums fresh;
+        fresh.strata = ps.strata;
+        fresh.level = ps.level + 1;
+        addSamples(px, py, 0, ps.n, integratorAt(fresh.level), fresh, st, rowBackground);
+        retraced += std::size_t(ps.n);
+        ps = fresh;
+      } else if (ps.n == 1 && ps.strata == 1 && maxSamples >= kFirstStrata) {
+        // Only the centre sample: replaced by a jittered 2x2 grid (as adaptive sampling's second pass does),
+        // which later rounds continue with the sequence
+        PixelSums fresh;
+        fresh.strata = kFirstStrata;
+        fresh.level = ps.level;
+        addSamples(px, py, 0, kFirstStrata, integratorAt(fresh.level), fresh, st, rowBackground);
+        samples += kFirstStrata - 1;
+        retraced += 1;
+        ps = fresh;
+      } else {
+        const int add = std::min(ps.n, maxSamples - ps.n);
+        addSamples(px, py, ps.n, ps.n + add, integratorAt(ps.level), ps, st, rowBackground);
+        samples += add;
+      }
+      marks_[idx] = kKeep;
       writePixel(idx, ps, st);
     });
     samples_ += samples;
+    retraced_ += retraced;
+  }
+
+  // Progressive display: the image of the kept sums (pixels with no sample are not this process's)
+  void restorePixels() {
+    RayStats st;
+    for (std::size_t i = 0; i < acc_.size(); ++i)
+      if (acc_[i].n > 0) writePixel(i, acc_[i], st);
+    if (!tileStats_.empty()) tileStats_.front() += st;
   }
 
   // Twice the standard error of the mean of n samples with these sums, largest channel, at most 1
@@ -476,9 +602,10 @@ class FrameJob {
   std::vector<RayStats> tileStats_;
   std::vector<uint8_t> hitMask_, marks_;
   bool progressive_ = false;
-  std::vector<PixelSums> acc_;  ///< Per-pixel sums, kept for progressive refinement.
+  std::vector<PixelSums> acc_;                                     ///< Per-pixel sums, kept for progressive refinement.
   std::optional<std::chrono::steady_clock::time_point> deadline_;  ///< Refinement stops taking tiles past it.
-  std::atomic<uint64_t> samples_{0}, supersampled_{0};
+  std::vector<std::unique_ptr<Integrator>> levels_;                ///< Loosening levels 1.. (progressive refinement).
+  std::atomic<uint64_t> samples_{0}, supersampled_{0}, retraced_{0};
   std::atomic<double> longestTile_{0.0};
   bool aborted_ = false;
 };

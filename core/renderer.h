@@ -36,9 +36,38 @@ struct FrameBuffer {
 constexpr double kSamplingConfidence = 0.95;
 constexpr float kSamplingStandardErrors = 2.0f;
 
+/// Loosening levels progressive refinement may apply per pixel (see RenderSettings::targetError).
+constexpr int kMaxLoosening = 3;
+
 /// Summary over the traced pixels of one per-pixel error image.
 struct ErrorSummary {
   double rms = 0.0, p95 = 0.0, max = 0.0;  ///< Root mean square, 95th percentile (to 1/4096) and largest value.
+};
+
+/// Running sums of one pixel's camera samples, kept for progressive refinement.
+struct PixelSums {
+  Color sum{0.0f}, sum2{0.0f};                   ///< Sum of the samples' colours and of their squares.
+  float alpha = 0.0f, err = 0.0f, depth = 1.0f;  ///< Sums of alpha and truncation bounds; nearest depth.
+  int n = 0;                                     ///< Samples summed (0: the pixel is not traced by this process).
+  int strata = 1;  ///< Samples of the first pass (a stratified grid); later samples continue a 2D sequence.
+  int level = 0;   ///< Loosening level the samples were traced at (see RenderSettings::targetError).
+  bool anyHit = false;
+};
+
+/// A still frame refined over several render() calls (progressive display). Keep one per view and pass it in
+/// RenderSettings::refinement: a call with an empty state (or another image size) traces the first pass and up to
+/// maxRefinementRounds rounds and stores the pixels' sums here; each later call restores the image from them and
+/// runs the next rounds. The caller calls reset() whenever the scene, camera or settings change (render() cannot
+/// tell). TimeBudget counts the tracing time of all calls.
+struct RefinementState {
+  std::vector<PixelSums> pixels;  ///< Per-pixel sums, rows bottom to top; empty before the first call.
+  int width = 0, height = 0;
+  double seconds = 0.0;   ///< Tracing seconds spent on this frame over all calls.
+  int rounds = 0;         ///< Refinement rounds run over all calls.
+  uint64_t samples = 0;   ///< Camera samples traced over all calls.
+  bool finished = false;  ///< Target met, budget spent or nothing left to refine: a call adds nothing.
+  std::vector<std::pair<double, double>> progress;  ///< As FrameStats::progress, over all calls.
+  void reset() { *this = RefinementState{}; }
 };
 
 struct RenderSettings {
@@ -61,12 +90,20 @@ struct RenderSettings {
   /// Progressive refinement of a still frame (with errorEstimates): after the first pass, rounds add samples to
   /// the pixels whose sampling estimate is largest (doubling their count, up to maxProgressiveSamples) until the
   /// RMS of the per-pixel total estimate is at most targetError, the frame has taken timeBudget seconds, or no
-  /// pixel can be refined. Either at 0 (the default) leaves it out; both 0: no refinement. Samples reduce only
-  /// the sampling part: refinement also stops when the truncation bound's RMS alone is at least the target
-  /// (depth and threshold are not loosened per pixel; raise maxDepth or lower the threshold).
+  /// pixel can be refined. Either at 0 (the default) leaves it out; both 0: no refinement. Each round picks the
+  /// pixels whose estimate (truncation bound + sampling estimate) is largest; a picked pixel whose truncation
+  /// bound is at least its sampling estimate is traced again with its samples at the next loosening level
+  /// (maxDepth doubled, at least +2, up to 64; contribution threshold / 16; at most kMaxLoosening levels), the
+  /// others get more samples: a pixel with only its centre sample gets a jittered 2x2 grid instead (as adaptive
+  /// sampling does), any other twice its samples, continuing a low-discrepancy sequence (R2, rotated per pixel)
+  /// after its stratified grid.
   double targetError = 0.0;
-  double timeBudget = 0.0;  ///< Seconds for the whole frame; checked between tiles (overshoot <= one tile).
+  double timeBudget = 0.0;          ///< Seconds for the whole frame; checked between tiles (overshoot <= one tile).
   int maxProgressiveSamples = 256;  ///< Most samples a pixel gets from refinement. Default 256.
+  /// Progressive display: state kept between calls (see RefinementState); null (the default): every call is a
+  /// whole frame.
+  RefinementState* refinement = nullptr;
+  int maxRefinementRounds = 0;  ///< Refinement rounds per call; 0 (the default) = until finished.
   /// Called on the calling thread between tiles; return true to abort the frame. May be empty.
   std::function<bool()> abortCheck;
   /// Called on the calling thread with the fraction done. May be empty.
@@ -78,6 +115,9 @@ struct FrameStats {
   RayStats rays;
   uint64_t samples = 0;             ///< Camera samples taken.
   uint64_t pixelsSupersampled = 0;  ///< Adaptive mode: pixels that got the full sample count.
+  /// Progressive refinement: samples traced again at a looser depth and threshold (they replace samples counted
+  /// in samples, so the per-pixel counts of FrameBuffer::samples sum to samples).
+  uint64_t samplesRetraced = 0;
   /// Per-pixel error estimates summarised over the traced pixels (FrameBuffer::truncation, sampling and their
   /// sum per pixel, total).
   ErrorSummary truncation, sampling, total;
@@ -87,6 +127,9 @@ struct FrameStats {
   int refinementRounds = 0;
   double longestTileSeconds = 0.0;  ///< Wall time of the slowest tile of any pass (the budget's granularity).
   bool targetMet = false;
+  /// Refinement is over (target met, budget spent, nothing left to refine, or no refinement asked for); false
+  /// when it stopped at RenderSettings::maxRefinementRounds or was aborted, so another call would improve it.
+  bool refinementFinished = true;
   std::vector<std::pair<double, double>> progress;
   int threads = 1;
   bool kernelReflection = false, kernelRefraction = false, kernelShadows = false;

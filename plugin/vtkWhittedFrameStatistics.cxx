@@ -29,6 +29,8 @@ void vtkWhittedFrameStatistics::Reset()
   this->NumberOfSamples = 0;
   this->RefinementRounds = 0;
   this->TargetErrorMet = false;
+  this->RefinementFinished = true;
+  this->RefinementSeconds = 0.0;
   this->Aborted = this->Failed = false;
   this->Modified();
 }
@@ -78,6 +80,8 @@ void vtkWhittedFrameStatistics::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfSamples: " << this->NumberOfSamples << "\n";
   os << indent << "RefinementRounds: " << this->RefinementRounds << "\n";
   os << indent << "TargetErrorMet: " << this->TargetErrorMet << "\n";
+  os << indent << "RefinementFinished: " << this->RefinementFinished << "\n";
+  os << indent << "RefinementSeconds: " << this->RefinementSeconds << "\n";
   os << indent << "Aborted: " << this->Aborted << "\n";
   os << indent << "Failed: " << this->Failed << "\n";
 }

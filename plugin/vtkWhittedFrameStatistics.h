@@ -130,11 +130,17 @@ public:
   ///@{
   /**
    * Camera samples taken, progressive refinement rounds run, and whether the frame met the pass's
-   * TargetError (false without a target).
+   * TargetError (false without a target). RefinementFinished: the refinement is over (target met,
+   * budget spent, nothing left to refine, or no refinement asked for); false when the frame stopped
+   * at the pass's RefinementRoundsPerFrame (progressive display: render again to continue) or was
+   * aborted. With progressive display the samples, rounds and RefinementSeconds (tracing seconds,
+   * what TimeBudget counts) are those of the whole refinement so far, over all its frames.
    */
   vtkGetMacro(NumberOfSamples, vtkTypeUInt64);
   vtkGetMacro(RefinementRounds, int);
   vtkGetMacro(TargetErrorMet, bool);
+  vtkGetMacro(RefinementFinished, bool);
+  vtkGetMacro(RefinementSeconds, double);
   ///@}
 
   /**
@@ -199,6 +205,8 @@ protected:
   vtkTypeUInt64 NumberOfSamples = 0;
   int RefinementRounds = 0;
   bool TargetErrorMet = false;
+  bool RefinementFinished = true;
+  double RefinementSeconds = 0.0;
   bool Aborted = false;
   bool Failed = false;
 

@@ -17,12 +17,16 @@
 #include "vtkInformationDoubleVectorKey.h"
 #include "vtkInformationObjectBaseKey.h"
 #include "vtkInformationStringKey.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
 #include "vtkLightsPass.h"
+#include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpaquePass.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOverlayPass.h"
 #include "vtkPointData.h"
+#include "vtkPropCollection.h"
 #include "vtkRenderPassCollection.h"
 #include "vtkRenderState.h"
 #include "vtkRenderer.h"
@@ -37,6 +41,7 @@
 #include "scene.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <exception>
@@ -126,6 +131,29 @@ public:
   }
   whitted::FrameBuffer Frame;
   int Rendered = 0;
+
+  // Progressive display: the sums of the still frame being refined, and what it was traced with
+  struct FrameKey
+  {
+    std::array<double, 16> View{};
+    std::array<double, 7> Background{};
+    int Width = 0, Height = 0;
+    vtkMTimeType Pass = 0, Props = 0;
+    bool operator==(const FrameKey& o) const
+    {
+      return View == o.View && Background == o.Background && Width == o.Width &&
+        Height == o.Height && Pass == o.Pass && Props == o.Props;
+    }
+  };
+  whitted::RefinementState Refinement;
+  FrameKey RefinementKey;
+  static FrameKey KeyOf(
+    vtkWhittedPass* pass, vtkRenderer* ren, const vtkMatrix4x4* view, int w, int h);
+
+  // Error image display: the traced frame with every traced pixel's colour replaced by its grey
+  // level (see vtkWhittedPass::ShowErrorImage)
+  whitted::FrameBuffer ErrorDisplay;
+  const whitted::FrameBuffer& DisplayedFrame(vtkWhittedPass* pass);
   vtkNew<vtkWhittedFrameStatistics> Statistics;
 
   // What one frame computed, for the statistics
@@ -212,6 +240,9 @@ void vtkWhittedPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TimeBudget: " << this->TimeBudget << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "TimeCacheMemory: " << this->TimeCacheMemory << "\n";
+  os << indent << "ShowErrorImage: " << this->ShowErrorImage << "\n";
+  os << indent << "ErrorImageScale: " << this->ErrorImageScale << "\n";
+  os << indent << "RefinementRoundsPerFrame: " << this->RefinementRoundsPerFrame << "\n";
   os << indent << "Interactive: " << this->Interactive << "\n";
   os << indent << "InteractiveMaxDepth: " << this->InteractiveMaxDepth << "\n";
   os << indent << "InteractiveShadows: " << this->InteractiveShadows << "\n";
@@ -303,14 +334,29 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
 
     // Trace; rays from the inverse of VTK's composite projection (tiles, IceT viewports)
     vtkCamera* cam = ren->GetActiveCamera();
-    const whitted::Camera camera = whitted::Camera::fromViewProjection(vtkWhittedToMat4(
-      cam->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1)));
+    vtkMatrix4x4* viewProjection =
+      cam->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1);
+    const whitted::Camera camera =
+      whitted::Camera::fromViewProjection(vtkWhittedToMat4(viewProjection));
     whitted::RenderSettings settings =
       vtkWhittedPassInternals::FrameSettings(this, cam, r.Conversion.HeadlightShading);
+    // Progressive display: continue the still frame being refined if nothing changed since
+    const vtkWhittedPassInternals::FrameKey key =
+      vtkWhittedPassInternals::KeyOf(this, ren, viewProjection, traceWidth, traceHeight);
+    if (this->Interactive || this->RefinementRoundsPerFrame == 0 || !(key == in->RefinementKey))
+    {
+      in->Refinement.reset();
+    }
+    in->RefinementKey = key;
+    if (!this->Interactive && this->RefinementRoundsPerFrame > 0)
+    {
+      settings.refinement = &in->Refinement;
+      settings.maxRefinementRounds = this->RefinementRoundsPerFrame;
+    }
     // Edge widths in traced pixels: interactive frames (fewer, larger pixels) keep their edges
     SetPixelFootprint(settings.integrator, cam, ren->GetTiledAspectRatio(), traceHeight);
-    r.Trace = in->Trace(
-      this, win, converter->GetScene(), camera, settings, traceWidth, traceHeight);
+    r.Trace =
+      in->Trace(this, win, converter->GetScene(), camera, settings, traceWidth, traceHeight);
   }
   catch (const std::exception& e)
   {
@@ -331,6 +377,65 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
   in->RecordStatistics(
     r, converter->GetScene().stats(), SecondsSince(start), this->LastFrameReport);
   this->InvokeEvent(vtkCommand::EndEvent);
+}
+
+//------------------------------------------------------------------------------
+vtkWhittedPassInternals::FrameKey vtkWhittedPassInternals::KeyOf(
+  vtkWhittedPass* pass, vtkRenderer* ren, const vtkMatrix4x4* view, int w, int h)
+{
+  FrameKey key;
+  for (int i = 0; i < 16; ++i)
+  {
+    key.View[static_cast<size_t>(i)] = view->GetElement(i / 4, i % 4);
+  }
+  const double* bg = ren->GetBackground();
+  const double* bg2 = ren->GetBackground2();
+  key.Background = { bg[0], bg[1], bg[2], bg2[0], bg2[1], bg2[2],
+    ren->GetGradientBackground() ? 1.0 : 0.0 };
+  key.Width = w;
+  key.Height = h;
+  key.Pass = pass->GetMTime();
+  // What the tracer sees of the props and lights: their MTimes (a prop's redraw time includes its
+  // mapper, input, property and texture)
+  vtkPropCollection* props = ren->GetViewProps();
+  vtkCollectionSimpleIterator pit;
+  props->InitTraversal(pit);
+  while (vtkProp* prop = props->GetNextProp(pit))
+  {
+    key.Props = std::max({ key.Props, prop->GetMTime(), prop->GetRedrawMTime() });
+  }
+  vtkLightCollection* lights = ren->GetLights();
+  vtkCollectionSimpleIterator lit;
+  lights->InitTraversal(lit);
+  while (vtkLight* light = lights->GetNextLight(lit))
+  {
+    key.Props = std::max(key.Props, light->GetMTime());
+  }
+  return key;
+}
+
+//------------------------------------------------------------------------------
+const whitted::FrameBuffer& vtkWhittedPassInternals::DisplayedFrame(vtkWhittedPass* pass)
+{
+  if (!pass->GetShowErrorImage())
+  {
+    return this->Frame;
+  }
+  // Grey = scale x (truncation bound + sampling estimate), opaque; depth as traced, so OpenGL
+  // props still sort against the surfaces
+  const whitted::FrameBuffer& f = this->Frame;
+  this->ErrorDisplay.width = f.width;
+  this->ErrorDisplay.height = f.height;
+  this->ErrorDisplay.depth = f.depth;
+  this->ErrorDisplay.color.resize(f.color.size());
+  const float scale = static_cast<float>(pass->GetErrorImageScale());
+  for (size_t i = 0; i < f.color.size(); ++i)
+  {
+    const float e = std::min(1.0f, f.truncation[i] + f.sampling[i]);
+    const float g = std::min(1.0f, scale * e);
+    this->ErrorDisplay.color[i] = f.traced[i] ? whitted::Color4(g, g, g, 1.0f) : f.color[i];
+  }
+  return this->ErrorDisplay;
 }
 
 //------------------------------------------------------------------------------
@@ -424,7 +529,8 @@ int vtkWhittedPassInternals::Composite(const vtkRenderState* s, vtkOpenGLRenderW
     this->OpaquePass->Render(&bgState);
     rendered += this->OpaquePass->GetNumberOfRenderedProps();
   }
-  if (!this->Compositor.Draw(win, this->Frame, viewport[0], viewport[1], viewport[2], viewport[3]))
+  if (!this->Compositor.Draw(win, this->DisplayedFrame(this->Parent), viewport[0], viewport[1],
+        viewport[2], viewport[3]))
   {
     vtkErrorWithObjectMacro(this->Parent, "Could not build the compositing shader.");
   }
@@ -496,6 +602,9 @@ void vtkWhittedPassInternals::RecordStatistics(
   st->NumberOfSamples = r.Trace.samples;
   st->RefinementRounds = r.Trace.refinementRounds;
   st->TargetErrorMet = r.Trace.targetMet;
+  st->RefinementFinished = r.Trace.refinementFinished;
+  st->RefinementSeconds =
+    this->Refinement.pixels.empty() ? r.Trace.secondsTrace : this->Refinement.seconds;
   st->Modified();
 
   report = whitted::frameReport(r.Trace, scene, r.Commit, this->Frame.width, this->Frame.height,
@@ -529,6 +638,7 @@ void vtkWhittedPass::FailFrame(vtkWhittedSceneConverter* converter, const char* 
     converter->Reset();
   }
   in->Frame = whitted::FrameBuffer();
+  in->Refinement.reset();
   in->Rendered = 0;
   in->Statistics->Reset();
   in->Statistics->Failed = true;

@@ -89,8 +89,11 @@ public:
    * Fresnel: exact dielectric Fresnel at refracting surfaces.
    * ContributionThreshold: secondary rays of a smaller path weight are not traced.
    * TargetError, TimeBudget: progressive refinement of still frames, steered by the per-pixel error
-   * estimate (GetLastErrorImage): samples go where the estimated sampling error is largest until
+   * estimate (GetLastErrorImage): the pixels whose estimate is largest get more samples, or are
+   * traced again at a deeper depth and lower threshold where the truncation bound dominates, until
    * the estimated error's RMS is at most TargetError or TimeBudget seconds of tracing are spent.
+   * ShowErrorImage, ErrorImageScale: draw the estimated error (grey = scale x error) instead of
+   * the rendering.
    * NumberOfThreads: tracing threads; 0 = every core the process may run on.
    * TimeCacheMemory: megabytes for the converted geometry and BVHs of earlier inputs of the same
    * objects (earlier time steps), kept so that showing them again converts and builds nothing
@@ -128,6 +131,12 @@ public:
   vtkSetClampMacro(TimeBudget, double, vtkWhittedSettings::TimeBudget.Minimum,
     vtkWhittedSettings::TimeBudget.Maximum);
   vtkGetMacro(TimeBudget, double);
+  vtkSetMacro(ShowErrorImage, bool);
+  vtkGetMacro(ShowErrorImage, bool);
+  vtkBooleanMacro(ShowErrorImage, bool);
+  vtkSetClampMacro(ErrorImageScale, double, vtkWhittedSettings::ErrorImageScale.Minimum,
+    vtkWhittedSettings::ErrorImageScale.Maximum);
+  vtkGetMacro(ErrorImageScale, double);
   vtkSetClampMacro(NumberOfThreads, int, vtkWhittedSettings::NumberOfThreads.Minimum,
     vtkWhittedSettings::NumberOfThreads.Maximum);
   vtkGetMacro(NumberOfThreads, int);
@@ -159,6 +168,20 @@ public:
   vtkSetClampMacro(
     InteractiveImageReduction, int, 1, vtkWhittedSettings::MaximumImageReduction.Maximum);
   vtkGetMacro(InteractiveImageReduction, int);
+  ///@}
+
+  ///@{
+  /**
+   * Progressive display of still frames that refine (TargetError or TimeBudget): with
+   * RefinementRoundsPerFrame N > 0 a still frame runs at most N refinement rounds and keeps its
+   * per-pixel sums; the next still Render() with the same camera, size, props, lights and settings
+   * continues from them, so rendering again while GetLastFrameStatistics()->GetRefinementFinished()
+   * is false shows the image improve round by round (TimeBudget counts the tracing time of all
+   * those frames). An interactive frame or any change starts over. 0 (the default): every still
+   * frame refines fully.
+   */
+  vtkSetClampMacro(RefinementRoundsPerFrame, int, 0, 1024);
+  vtkGetMacro(RefinementRoundsPerFrame, int);
   ///@}
 
   ///@{
@@ -268,6 +291,9 @@ protected:
   double TimeBudget = vtkWhittedSettings::TimeBudget.Default;
   int NumberOfThreads = vtkWhittedSettings::NumberOfThreads.Default;
   int TimeCacheMemory = vtkWhittedSettings::TimeCacheMemory.Default;
+  bool ShowErrorImage = vtkWhittedSettings::ShowErrorImage.Default;
+  double ErrorImageScale = vtkWhittedSettings::ErrorImageScale.Default;
+  int RefinementRoundsPerFrame = 0;
   bool Interactive = false;
   int InteractiveMaxDepth = vtkWhittedSettings::InteractiveMaxDepth.Default;
   bool InteractiveShadows = vtkWhittedSettings::InteractiveShadows.Default;

@@ -49,7 +49,8 @@
     "path) is below this value is not traced. The default, 1/255, can change a pixel by less "     \
     "than one 8-bit step; larger values are faster and darken deep reflections.")                  \
   X(Pass, double, TargetError, 0.0, 0.0, 1.0,                                                      \
-    "Still frames: add samples where the estimated anti-aliasing error is largest until the "      \
+    "Still frames: refine where the estimated error is largest (more samples, or a deeper Max "     \
+    "Depth and lower Contribution Threshold where the truncation bound dominates) until the "      \
     "frame's estimated error (RMS over pixels of the truncation bound plus the sampling "           \
     "estimate, in colour units 0..1) is at most this value; 0 = no target. Interactive frames are " \
     "never refined.")                                                                              \
@@ -57,6 +58,12 @@
     "Still frames: refine progressively (as for Target Error) for at most this many seconds of "   \
     "tracing, stopping early when Target Error is met; 0 = no budget. The first pass always "      \
     "completes; refinement stops within one tile's time of the budget.")                           \
+  X(Pass, bool, ShowErrorImage, false, false, true,                                               \
+    "Show the per-pixel estimated error (truncation bound plus sampling estimate, as in Target "   \
+    "Error) as grey levels instead of the rendering: grey = Error Image Scale x error, so white "   \
+    "marks pixels whose error is 1 / Error Image Scale or more.")                                  \
+  X(Pass, double, ErrorImageScale, 10.0, 1.0, 1000.0,                                             \
+    "Brightness of the error image (Show Error Image): grey level per unit of estimated error.")   \
   X(Pass, int, NumberOfThreads, 0, 0, 1024,                                                        \
     "Tracing threads per rendering process; 0 uses every core the process may run on (its CPU "    \
     "affinity: mpirun binds each rank to one core by default, so start pvserver or pvbatch with "  \
@@ -78,6 +85,18 @@
   X(View, int, MaximumImageReduction, 8, 1, 16,                                                    \
     "Largest factor by which the width and height of frames traced while the camera moves are "    \
     "reduced. 1 disables reduced-resolution interaction.")                                         \
+  X(View, bool, ProgressiveDisplay, true, false, true,                                             \
+    "Still frames with Target Error or Time Budget are shown as they refine: each frame runs "      \
+    "Refinement Rounds Per Render rounds (1 in the GUI) and the view renders again until the "      \
+    "target is met or the budget spent; any interaction interrupts it at once. Off, or in a "       \
+    "script with Refinement Rounds Per Render 0: each still render refines the frame fully.")       \
+  X(View, int, RefinementRoundsPerRender, 0, 0, 64,                                                \
+    "Progressive Display: refinement rounds per still render; 0 = 1 in the GUI (which renders "     \
+    "again by itself) and all of them in scripts. A script that sets it renders again while "       \
+    "Refinement Unfinished is 1.")                                                                 \
+  X(View, bool, ShowErrorAnnotation, false, false, true,                                           \
+    "Show the last still frame's tracing time, samples per pixel, estimated error (RMS) and "       \
+    "whether Target Error was met in the view's lower left corner.")                               \
   X(View, bool, ReplicateGeometry, true, false, true,                                              \
     "Parallel rendering only (mpirun pvbatch or pvserver): give every rank a copy of all "         \
     "rendered geometry so shadows, reflections and refractions see the whole scene, and split "    \

@@ -3,7 +3,9 @@
 // renderer's own error estimate against what it bounds (truncation: every pixel checked; sampling: coverage against
 // the reference); then the progressive mode (default settings, TimeBudget 1.5-12x the default frame's time).
 // --budget S: slow settings get fewer timed runs; --quick: a few settings only; --png-dir DIR keeps the reference
-// and default images.
+// and default images; --progressive-only: of the sweep only the default setting (the progressive mode's start and
+// time unit), then the progressive mode; --budgets F,F,...: the progressive mode's budgets as multiples of the
+// default frame's time.
 #include "bench_commands.h"
 #include "image_metrics.h"
 
@@ -21,6 +23,7 @@ int cmdError(const Args& a) {
   int reps = a.integer("reps", 3), warmup = a.integer("warmup", 1);
   int refSpp = a.integer("ref-spp", 64), refDepth = a.integer("ref-depth", 16);
   bool quick = a.has("quick");
+  const bool progressiveOnly = a.has("progressive-only");
   std::string pngDir = a.str("png-dir");
   Camera cam = bs.camera.make(double(w) / h, bs.scene.bounds());
   const Features& f = bs.scene.features();
@@ -133,6 +136,11 @@ int cmdError(const Args& a) {
     depths = {1, 5};
     thresholds = {0.0f, 1.0f / 255};
   }
+  if (progressiveOnly) {
+    samplings = {{1, false}};
+    depths = {5};
+    thresholds = {1.0f / 255};
+  }
   if (!secondary) {
     // Nothing reflects or refracts: depth and threshold cannot change the image (the kernel leaves them out)
     depths = {5};
@@ -234,6 +242,15 @@ int cmdError(const Args& a) {
   // against the reference at each budget: the curve to set against the fixed settings' Pareto front
   if (defaultSeconds > 0.0) {
     std::vector<double> factors = quick ? std::vector<double>{2.0} : std::vector<double>{1.5, 3.0, 6.0, 12.0};
+    if (a.has("budgets")) {
+      factors.clear();
+      const std::string list = a.str("budgets");
+      for (std::size_t p = 0; p < list.size();) {
+        const std::size_t q = std::min(list.find(',', p), list.size());
+        factors.push_back(std::stod(list.substr(p, q - p)));
+        p = q + 1;
+      }
+    }
     for (double f : factors) {
       RenderSettings rs;
       rs.timeBudget = f * defaultSeconds;

@@ -120,7 +120,7 @@ def set_camera(view):
 
 
 def read_png(path):
-    """A PNG file's RGB as an int32 numpy array (rows, columns, 3), rows as stored (top row first)."""
+    """A PNG file's RGB as an int32 numpy array (rows, columns, 3), bottom row first (as vtkPNGReader reads it)."""
     import numpy as np
     from vtkmodules.util.numpy_support import vtk_to_numpy
     from vtkmodules.vtkIOImage import vtkPNGReader
@@ -246,3 +246,34 @@ def fail(msg):
     print("FAILED: " + msg)
     sys.stdout.flush()
     os._exit(1)
+
+
+def parse_args(tmp=False):
+    """The arguments every test takes: --plugin P, and --tmp DIR (created) if tmp."""
+    import argparse
+
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--plugin", required=True)
+    if tmp:
+        ap.add_argument("--tmp", required=True)
+    args = ap.parse_args()
+    if tmp:
+        os.makedirs(args.tmp, exist_ok=True)
+    return args
+
+
+class Checks:
+    """Named checks: prints each, and finish() fails the test (exit 1) if any failed."""
+
+    def __init__(self):
+        self.failures = []
+
+    def __call__(self, ok, message):
+        print(("ok    " if ok else "FAIL  ") + message)
+        if not ok:
+            self.failures.append(message)
+
+    def finish(self, name):
+        if self.failures:
+            fail("%d failures" % len(self.failures))
+        print(name + ": ok")

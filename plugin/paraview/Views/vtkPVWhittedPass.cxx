@@ -13,13 +13,20 @@ vtkPVWhittedPass::~vtkPVWhittedPass() = default;
 //------------------------------------------------------------------------------
 void vtkPVWhittedPass::SetEnvironment(const double bottom[3], const double top[3], bool gradient)
 {
+  bool changed = !this->HasEnvironment || this->EnvironmentGradient != gradient;
   this->HasEnvironment = true;
   for (int i = 0; i < 3; ++i)
   {
+    changed =
+      changed || this->EnvironmentBottom[i] != bottom[i] || this->EnvironmentTop[i] != top[i];
     this->EnvironmentBottom[i] = bottom[i];
     this->EnvironmentTop[i] = top[i];
   }
   this->EnvironmentGradient = gradient;
+  if (changed)
+  {
+    this->Modified(); // a progressive frame being refined starts over
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -14,12 +14,16 @@
 #include "vtkPVSynchronizedRenderer.h"
 #include "vtkPVWhittedPass.h"
 #include "vtkRenderWindow.h"
+#include "vtkRenderWindowInteractor.h"
 #include "vtkRenderer.h"
+#include "vtkTextActor.h"
+#include "vtkTextProperty.h"
 #include "vtkWhittedFrameStatistics.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 vtkStandardNewMacro(vtkPVWhittedView);
 
@@ -51,6 +55,17 @@ vtkPVWhittedView::vtkPVWhittedView()
     vtkCommand::ProgressEvent, this, &vtkPVWhittedView::ForwardProgress);
   // Every frame the tracer runs ends with EndEvent (diagnostics: TracedFrameCount).
   this->WhittedPass->AddObserver(vtkCommand::EndEvent, this, &vtkPVWhittedView::CountFrame);
+
+  // The error annotation: a text actor in the non-composited renderer (drawn over the image, like
+  // the render view's own annotations), hidden until ShowErrorAnnotation
+  this->ErrorAnnotation->SetVisibility(this->ShowErrorAnnotation);
+  this->ErrorAnnotation->SetPickable(false);
+  this->ErrorAnnotation->SetDisplayPosition(8, 8);
+  vtkTextProperty* text = this->ErrorAnnotation->GetTextProperty();
+  text->SetFontSize(14);
+  text->SetColor(1.0, 1.0, 1.0);
+  text->ShadowOn();
+  this->GetNonCompositedRenderer()->AddActor2D(this->ErrorAnnotation);
 }
 
 //------------------------------------------------------------------------------
@@ -58,6 +73,8 @@ vtkPVWhittedView::~vtkPVWhittedView()
 {
   this->WhittedPass->RemoveObservers(vtkCommand::ProgressEvent);
   this->WhittedPass->RemoveObservers(vtkCommand::EndEvent);
+  this->DetachInteractor();
+  this->GetNonCompositedRenderer()->RemoveActor2D(this->ErrorAnnotation);
   this->SynchronizedRenderers->SetRenderPass(nullptr);
 }
 
@@ -174,6 +191,23 @@ void vtkPVWhittedView::SetInteractiveShadows(bool value)
 bool vtkPVWhittedView::GetInteractiveShadows()
 {
   return this->WhittedPass->GetInteractiveShadows();
+}
+
+void vtkPVWhittedView::SetShowErrorImage(bool value)
+{
+  this->WhittedPass->SetShowErrorImage(value);
+}
+bool vtkPVWhittedView::GetShowErrorImage()
+{
+  return this->WhittedPass->GetShowErrorImage();
+}
+void vtkPVWhittedView::SetErrorImageScale(double value)
+{
+  this->WhittedPass->SetErrorImageScale(value);
+}
+double vtkPVWhittedView::GetErrorImageScale()
+{
+  return this->WhittedPass->GetErrorImageScale();
 }
 
 vtkWhittedPass* vtkPVWhittedView::GetWhittedPass()
@@ -341,6 +375,7 @@ void vtkPVWhittedView::Render(bool interactive, bool skip_rendering)
   }
   pass->SetInteractive(interactive);
   pass->SetInteractiveImageReduction(reduction);
+  pass->SetRefinementRoundsPerFrame(this->ProgressiveRoundsForFrame(interactive));
 
   // Which pass this process runs. A process that draws no geometry in this frame (the client while
   // the server renders: ParaView's culler hands the renderer no props) runs ParaView's default
@@ -393,6 +428,7 @@ void vtkPVWhittedView::Render(bool interactive, bool skip_rendering)
       this->LastNumberOfSamples = static_cast<double>(stats->GetNumberOfSamples());
       this->LastRefinementRounds = stats->GetRefinementRounds();
     }
+    this->AfterTracedFrame(interactive, reduction);
   }
   this->LastFrameInteractive = interactive;
   this->LastImageReduction = reduction;
@@ -402,6 +438,160 @@ void vtkPVWhittedView::Render(bool interactive, bool skip_rendering)
 void vtkPVWhittedView::CountFrame(vtkObject*, unsigned long, void*)
 {
   ++this->TracedFrameCount;
+  // The annotation is drawn by the non-composited renderer after this one: it shows this frame
+  this->UpdateErrorAnnotation(
+    this->WhittedPass->GetInteractive(), this->WhittedPass->GetInteractiveImageReduction());
+}
+
+//------------------------------------------------------------------------------
+// Progressive display
+//------------------------------------------------------------------------------
+int vtkPVWhittedView::ProgressiveRoundsForFrame(bool interactive)
+{
+  if (interactive || !this->ProgressiveDisplay || this->GetInCaptureScreenshot())
+  {
+    return 0; // screenshots are refined fully
+  }
+  if (this->RefinementRoundsPerRender > 0)
+  {
+    return this->RefinementRoundsPerRender;
+  }
+  // Automatic: one round per frame where the view can render again by itself: the GUI, whose Qt
+  // interactor runs timers in the application's event loop (pvbatch and pvpython have interactors
+  // too, but nothing runs their timers); scripts get the whole refinement in one render
+  vtkRenderWindowInteractor* iren = this->GetInteractor();
+  return iren && iren->IsA("QVTKInteractor") ? 1 : 0;
+}
+
+//------------------------------------------------------------------------------
+void vtkPVWhittedView::AfterTracedFrame(bool interactive, int vtkNotUsed(reduction))
+{
+  vtkWhittedFrameStatistics* stats = this->WhittedPass->GetLastFrameStatistics();
+  this->RefinementUnfinished =
+    !interactive && !stats->GetFailed() && !stats->GetRefinementFinished();
+  // In the GUI: render again soon (ParaView's interactor helper turns the interactor's render
+  // into a still render of this view's proxy), unless an earlier timer is still pending
+  vtkRenderWindowInteractor* iren = this->GetInteractor();
+  if (this->RefinementUnfinished && this->RefinementRoundsPerRender == 0 &&
+    this->ProgressiveRoundsForFrame(false) > 0 && this->ProgressiveTimerId < 0)
+  {
+    this->ProgressiveTimerId = iren->CreateOneShotTimer(1);
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPVWhittedView::SetupInteractor(vtkRenderWindowInteractor* iren)
+{
+  this->DetachInteractor();
+  this->Superclass::SetupInteractor(iren);
+  if (iren)
+  {
+    this->InteractorObservers[0] =
+      iren->AddObserver(vtkCommand::TimerEvent, this, &vtkPVWhittedView::OnInteractorEvent);
+    this->InteractorObservers[1] = iren->AddObserver(
+      vtkCommand::StartInteractionEvent, this, &vtkPVWhittedView::OnInteractorEvent);
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPVWhittedView::DetachInteractor()
+{
+  if (vtkRenderWindowInteractor* iren = this->GetInteractor())
+  {
+    if (this->ProgressiveTimerId >= 0)
+    {
+      iren->DestroyTimer(this->ProgressiveTimerId);
+    }
+    for (unsigned long tag : this->InteractorObservers)
+    {
+      iren->RemoveObserver(tag);
+    }
+  }
+  this->ProgressiveTimerId = -1;
+  this->InteractorObservers[0] = this->InteractorObservers[1] = 0;
+}
+
+//------------------------------------------------------------------------------
+void vtkPVWhittedView::OnInteractorEvent(vtkObject*, unsigned long event, void* callData)
+{
+  vtkRenderWindowInteractor* iren = this->GetInteractor();
+  if (!iren || this->ProgressiveTimerId < 0)
+  {
+    return;
+  }
+  if (event == vtkCommand::StartInteractionEvent)
+  {
+    // Interaction interrupts progressive display at once (its frames start over anyway)
+    iren->DestroyTimer(this->ProgressiveTimerId);
+    this->ProgressiveTimerId = -1;
+    return;
+  }
+  if (!callData || *static_cast<int*>(callData) != this->ProgressiveTimerId)
+  {
+    return; // another timer (e.g. ParaView's delayed still render)
+  }
+  this->ProgressiveTimerId = -1;
+  if (this->RefinementUnfinished && this->ProgressiveDisplay)
+  {
+    iren->Render();
+  }
+}
+
+//------------------------------------------------------------------------------
+// Error annotation
+//------------------------------------------------------------------------------
+void vtkPVWhittedView::SetShowErrorAnnotation(bool value)
+{
+  if (this->ShowErrorAnnotation != value)
+  {
+    this->ShowErrorAnnotation = value;
+    this->ErrorAnnotation->SetVisibility(value);
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+const char* vtkPVWhittedView::GetErrorAnnotationText()
+{
+  return this->ErrorAnnotationText.c_str();
+}
+
+//------------------------------------------------------------------------------
+void vtkPVWhittedView::UpdateErrorAnnotation(bool interactive, int reduction)
+{
+  vtkWhittedFrameStatistics* stats = this->WhittedPass->GetLastFrameStatistics();
+  char text[256];
+  if (stats->GetFailed())
+  {
+    std::snprintf(text, sizeof text, "Whitted: frame failed");
+  }
+  else if (interactive)
+  {
+    std::snprintf(text, sizeof text, "Whitted: interactive frame %.0f ms at 1/%d resolution",
+      stats->GetTotalTime() * 1e3, reduction);
+  }
+  else
+  {
+    const int* size = stats->GetSize();
+    const double pixels = std::max(1.0, static_cast<double>(size[0]) * size[1]);
+    const double spp = static_cast<double>(stats->GetNumberOfSamples()) / pixels;
+    const double target = this->WhittedPass->GetTargetError();
+    char status[96];
+    if (target > 0.0)
+    {
+      std::snprintf(status, sizeof status, "target %.4g %s", target,
+        stats->GetTargetErrorMet() ? "met" : "not met");
+    }
+    else
+    {
+      std::snprintf(status, sizeof status, "no target");
+    }
+    std::snprintf(text, sizeof text, "Whitted: %.0f ms, %.2f spp, error %.4f (RMS estimate)\n%s%s",
+      stats->GetRefinementSeconds() * 1e3, spp, stats->GetEstimatedError()[0], status,
+      stats->GetRefinementFinished() ? "" : ", refining");
+  }
+  this->ErrorAnnotationText = text;
+  this->ErrorAnnotation->SetInput(text);
 }
 
 //------------------------------------------------------------------------------
@@ -435,6 +625,10 @@ void vtkPVWhittedView::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "InteractiveFrameTime: " << this->InteractiveFrameTime << "\n";
   os << indent << "MaximumImageReduction: " << this->MaximumImageReduction << "\n";
   os << indent << "ReplicateGeometry: " << this->ReplicateGeometry << "\n";
+  os << indent << "ProgressiveDisplay: " << this->ProgressiveDisplay << "\n";
+  os << indent << "RefinementRoundsPerRender: " << this->RefinementRoundsPerRender << "\n";
+  os << indent << "ShowErrorAnnotation: " << this->ShowErrorAnnotation << "\n";
+  os << indent << "RefinementUnfinished: " << this->RefinementUnfinished << "\n";
   os << indent << "TracedFrameCount: " << this->TracedFrameCount << "\n";
   os << indent << "LastRenderTime: " << this->LastRenderTime << "\n";
   os << indent << "LastImageReduction: " << this->LastImageReduction << "\n";

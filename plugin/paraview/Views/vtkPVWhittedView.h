@@ -24,6 +24,14 @@
  * scene; each rank traces an interleaved share of the pixels (vtkWhittedPass::SetImageSplit) and
  * IceT's depth or ordered-blend compositing assembles the frame. The memory cost is one full copy
  * of the rendered geometry per rank (see README).
+ * - Progressive display (ProgressiveDisplay, on by default): a still frame that refines
+ * (TargetError or TimeBudget) runs one refinement round per frame in the GUI, and the view renders
+ * again (a one-shot timer on its interactor, which ParaView turns into a still render) until the
+ * refinement is over; the camera or anything else changing starts over, and interaction cancels the
+ * timer. Scripts set RefinementRoundsPerRender and render again while RefinementUnfinished is 1.
+ * - Error display: ShowErrorAnnotation puts the last frame's time, samples, estimated error and
+ * target status in the lower left corner (a text actor in the non-composited renderer, like the
+ * render view's own annotations); ShowErrorImage shows the per-pixel error instead of the image.
  * - Progress: the pass's ProgressEvent is forwarded to ParaView's progress handler, so long still
  * frames move the GUI's progress bar (and are reported to a remote client).
  * - No work where no geometry is: a process that renders no geometry for this frame (the client
@@ -47,6 +55,8 @@
 class vtkAlgorithm;
 class vtkPVWhittedPass;
 class vtkRenderPass;
+class vtkRenderWindowInteractor;
+class vtkTextActor;
 class vtkWhittedPass;
 
 class WHITTEDPARAVIEW_EXPORT vtkPVWhittedView : public vtkPVRenderView
@@ -91,7 +101,42 @@ public:
   int GetInteractiveMaxDepth();
   void SetInteractiveShadows(bool value);
   bool GetInteractiveShadows();
+  void SetShowErrorImage(bool value);
+  bool GetShowErrorImage();
+  void SetErrorImageScale(double value);
+  double GetErrorImageScale();
   ///@}
+
+  ///@{
+  /**
+   * Progressive display and the on-screen error annotation (see class documentation). Defaults
+   * and ranges: vtkWhittedSettings.h.
+   */
+  vtkSetMacro(ProgressiveDisplay, bool);
+  vtkGetMacro(ProgressiveDisplay, bool);
+  vtkSetClampMacro(RefinementRoundsPerRender, int,
+    vtkWhittedSettings::RefinementRoundsPerRender.Minimum,
+    vtkWhittedSettings::RefinementRoundsPerRender.Maximum);
+  vtkGetMacro(RefinementRoundsPerRender, int);
+  void SetShowErrorAnnotation(bool value);
+  vtkGetMacro(ShowErrorAnnotation, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Progressive display state of the last still frame traced on this process (information-only
+   * properties): whether its refinement is unfinished (rendering again would improve it), and the
+   * annotation text (also when the annotation is hidden).
+   */
+  vtkGetMacro(RefinementUnfinished, bool);
+  const char* GetErrorAnnotationText();
+  ///@}
+
+  /**
+   * Overridden to restart progressive display from the interactor's timer and to stop it when
+   * interaction starts.
+   */
+  void SetupInteractor(vtkRenderWindowInteractor*) override;
 
   ///@{
   /**
@@ -198,10 +243,19 @@ protected:
 
   vtkNew<vtkPVWhittedPass> WhittedPass;
   vtkNew<vtkAlgorithm> ProgressReporter;
+  vtkNew<vtkTextActor> ErrorAnnotation;
 
   double InteractiveFrameTime = vtkWhittedSettings::InteractiveFrameTime.Default;
   int MaximumImageReduction = vtkWhittedSettings::MaximumImageReduction.Default;
   bool ReplicateGeometry = vtkWhittedSettings::ReplicateGeometry.Default;
+  bool ProgressiveDisplay = vtkWhittedSettings::ProgressiveDisplay.Default;
+  int RefinementRoundsPerRender = vtkWhittedSettings::RefinementRoundsPerRender.Default;
+  bool ShowErrorAnnotation = vtkWhittedSettings::ShowErrorAnnotation.Default;
+  bool RefinementUnfinished = false;
+  std::string ErrorAnnotationText;
+  // Progressive display in the GUI: the interactor's one-shot timer that renders again (-1: none)
+  int ProgressiveTimerId = -1;
+  unsigned long InteractorObservers[2] = { 0, 0 }; // timer, start of interaction
 
   // The pass installed in the synchronized renderers: the tracer, or null (ParaView's default)
   vtkRenderPass* InstalledPass = nullptr;
@@ -231,6 +285,12 @@ private:
   int ChooseImageReduction();
   void ForwardProgress(vtkObject*, unsigned long, void* callData);
   void CountFrame(vtkObject*, unsigned long, void*);
+  // Progressive display and annotation (see class documentation)
+  int ProgressiveRoundsForFrame(bool interactive);
+  void AfterTracedFrame(bool interactive, int reduction);
+  void UpdateErrorAnnotation(bool interactive, int reduction);
+  void OnInteractorEvent(vtkObject*, unsigned long event, void* callData);
+  void DetachInteractor();
 };
 
 #endif

@@ -26,6 +26,12 @@ def parse_args(doc):
     ap.add_argument("--report-only", action="store_true", help="rebuild report and plots from existing CSVs")
     ap.add_argument("--readme", default="", help="also rewrite the benchmark-figures block of this README from "
                     "the results (e.g. README.md with --report-only --out data/benchmark/results)")
+    ap.add_argument("--error-scenes", default="", help="error section: these scenes (comma-separated) instead of "
+                    "the configured ones")
+    ap.add_argument("--error-progressive-only", action="store_true", help="error section: of the fixed settings "
+                    "only the default (the progressive mode's starting point), then the progressive mode")
+    ap.add_argument("--error-budgets", default="", help="error section: the progressive mode's time budgets as "
+                    "multiples of the default frame's time, comma-separated (default 1.5,3,6,12)")
     ap.add_argument("--paraview-plugin", default="", help="WhittedView plugin for the paraview and mpi sections "
                     "(default: found in ../paraview next to --build-dir)")
     ap.add_argument("--pv-pythonpath", default="", help="folder holding ParaView's `paraview` Python package "
@@ -83,6 +89,12 @@ def main(doc=""):
     out = os.path.abspath(args.out)
     os.makedirs(out, exist_ok=True)
     ctx = Context(args, config(args.quick), out, Runner(out))
+    if args.error_scenes:
+        ctx.cfg["error_scenes"] = [s for s in args.error_scenes.split(",") if s]
+        if args.sections == "error":  # only the meshes these scenes need
+            ctx.cfg["meshes"] = [m for m in ctx.cfg["meshes"] if "iso" + m in ctx.cfg["error_scenes"]]
+    ctx.cfg["error_progressive_only"] = args.error_progressive_only
+    ctx.cfg["error_budgets"] = args.error_budgets
     script = os.path.abspath(sys.argv[0])
     ctx.argv = ["/usr/bin/python3", os.path.relpath(script, REPO) if script.startswith(REPO + os.sep) else script]
     ctx.argv += sys.argv[1:]

@@ -10,6 +10,10 @@
 3. TimeBudget: without a target the frame refines until the budget and stops within one tile's time.
 4. Interactive frames skip the sampling estimate and never refine; the image is the same with or without a
    target on the first pass (the estimate is side data).
+5. ShowErrorImage: the window shows grey = ErrorImageScale x EstimatedError of GetLastErrorImage, pixel by pixel.
+6. RefinementRoundsPerFrame (progressive display): each Render() of the unchanged view runs one more round, the
+   estimate never grows, RefinementFinished turns true when the target is met, with the samples and image of the
+   same target refined in one Render(); a camera change or an interactive frame (1 sample per pixel) starts over.
 """
 import sys
 import time
@@ -18,7 +22,8 @@ import numpy as np
 from vtkmodules.vtkCommonCore import vtkFloatArray
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkFiltersSources import vtkPlaneSource, vtkSphereSource
-from vtkmodules.vtkRenderingCore import vtkActor, vtkLight, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow
+from vtkmodules.vtkRenderingCore import (vtkActor, vtkLight, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow,
+                                         vtkWindowToImageFilter)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from whitted import vtkWhittedPass
@@ -155,6 +160,61 @@ _, image, st = frame()
 check(st.GetRefinementRounds() == 0 and st.GetSamplingError()[0] == 0.0 and st.GetNumberOfSamples() == pixels,
       "interactive: no refinement, no sampling estimate")
 p.SetInteractive(False)
+
+# 5. The error image shown instead of the rendering
+p.SetTimeBudget(0.0)
+p.SetMaxDepth(3)
+p.SetShowErrorImage(True)
+p.SetErrorImageScale(8.0)
+_, image, st = frame()
+grab = vtkWindowToImageFilter()
+grab.SetInput(win)
+grab.ReadFrontBufferOff()
+grab.SetInputBufferTypeToRGB()
+grab.Update()
+shown = vtk_to_numpy(grab.GetOutput().GetPointData().GetScalars()).astype(int).reshape(-1, 3)
+expected = np.rint(255 * np.minimum(1.0, 8.0 * array(image, "EstimatedError"))).astype(int)
+check(np.abs(shown - expected[:, None]).max() <= 1 and expected.max() - expected.min() > 50,
+      "error image shown: largest difference %d of grey levels %d..%d"
+      % (np.abs(shown - expected[:, None]).max(), expected.min(), expected.max()))
+p.SetShowErrorImage(False)
+rendered, _, _ = frame()
+grab.Modified()
+grab.Update()
+shown = vtk_to_numpy(grab.GetOutput().GetPointData().GetScalars()).astype(int).reshape(-1, 3)
+check(np.abs(shown - expected[:, None]).max() > 50, "ShowErrorImage off: the rendering again")
+
+# 6. Progressive display: one round per Render()
+p.SetMaxDepth(24)
+p.SetContributionThreshold(0.0)
+p.SetTargetError(first * 0.5)
+once_rgba, _, st = frame()
+once = (st.GetRefinementRounds(), st.GetNumberOfSamples())
+p.SetRefinementRoundsPerFrame(1)
+rounds, estimates, finished = [], [], False
+while not finished and len(rounds) < 50:
+    rgba, image, st = frame()
+    rounds.append(st.GetRefinementRounds())
+    estimates.append(st.GetEstimatedError()[0])
+    finished = st.GetRefinementFinished()
+check(rounds == list(range(1, len(rounds) + 1)) and len(rounds) == once[0],
+      "one round per Render(): %s (in one Render(): %d rounds)" % (rounds, once[0]))
+check(all(b <= a + 1e-9 for a, b in zip(estimates, estimates[1:])), "the estimate never grows: %s"
+      % " ".join("%.4f" % e for e in estimates))
+check(st.GetTargetErrorMet() and st.GetNumberOfSamples() == once[1] and np.array_equal(rgba, once_rgba),
+      "progressive display ends with the frame refined in one Render(): %d samples" % st.GetNumberOfSamples())
+cam.Azimuth(2.0)
+_, _, st = frame()
+check(st.GetRefinementRounds() == 1 and not st.GetRefinementFinished(), "camera moved: starts over")
+p.SetInteractive(True)
+_, _, st = frame()
+check(st.GetNumberOfSamples() == pixels and st.GetRefinementRounds() == 0, "interactive frame: 1 sample per pixel")
+p.SetInteractive(False)
+_, _, st = frame()
+check(st.GetRefinementRounds() == 1, "the still frame after interaction starts over: %d round"
+      % st.GetRefinementRounds())
+p.SetRefinementRoundsPerFrame(0)
+p.SetTargetError(0.0)
 
 print("%d failures" % len(failures))
 sys.exit(1 if failures else 0)

@@ -17,6 +17,10 @@ def run(ctx):
                "--warmup", "1", "--budget", str(c["error_budget"]), "--csv", path, "--png-dir", ctx.out]
         if c["quick"]:
             cmd.append("--quick")
+        if c.get("error_progressive_only"):
+            cmd.append("--progressive-only")
+        if c.get("error_budgets"):
+            cmd += ["--budgets", c["error_budgets"]]
         ctx.runner.run(cmd, "error " + s)
 
 
