@@ -207,10 +207,15 @@ def find_whitted_pythonpath(args):
     if args.whitted_pythonpath:
         return args.whitted_pythonpath
     for root in ([os.path.abspath(args.build_dir)] if args.build_dir else []):
+        # The build's own module first: the tree also holds staged installs and package trees of earlier test
+        # runs (Testing/install), whose module may be stale
+        own = os.path.join(root, "lib", "python3", "dist-packages")
+        if os.path.isfile(os.path.join(own, "whitted", "__init__.py")):
+            return own
         for dirpath, dirnames, filenames in os.walk(root):
             if os.path.basename(dirpath) == "whitted" and "__init__.py" in filenames:
                 return os.path.dirname(dirpath)
-            dirnames[:] = [d for d in dirnames if not d.startswith(".") and d != "CMakeFiles"]
+            dirnames[:] = [d for d in dirnames if not d.startswith(".") and d not in ("CMakeFiles", "Testing")]
     return ""
 
 
