@@ -66,8 +66,9 @@ def report(ctx, head):
         return m[0] if m else None
 
     for t in sorted({r["threads"] for r in build}):
-        sah = pick("whitted", SAH, t) or pick("whitted", "Bvh::build", t)
-        sah_name = "SAH build (Scene::commit)" if pick("whitted", SAH, t) else "SAH builder alone (Bvh::build)"
+        commit_sah = pick("whitted", SAH, t)
+        sah = commit_sah or pick("whitted", "Bvh::build", t)
+        sah_name = "SAH build (Scene::commit)" if commit_sah else "SAH builder alone (Bvh::build)"
         for ours, name, qualities in [(sah, sah_name, ["medium", "high"]),
                                       (pick("whitted", FAST, t), "fast build (Scene::commit)", ["low"])]:
             for q in qualities:
