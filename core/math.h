@@ -5,6 +5,7 @@
 // normals used only for shading, and BVH node bounds (rounded outward) are single precision.
 #pragma once
 
+#include <emmintrin.h>  // SSE2: part of every x86-64 CPU (Debian 12's baseline)
 #include <glm/glm.hpp>
 
 #include <cmath>
@@ -61,6 +62,13 @@ inline float nextFloatUp(float f) {
 }
 inline float nextFloatDown(float f) {
   return -nextFloatUp(-f);
+}
+/// x rounded to the nearest float, returned as a double. Through SSE2 intrinsics on purpose: GCC 12's vectorizer
+/// (at -O2, and at our -O3 in some loop shapes) folds double(float(x)) back to x in loops over glm vectors, so the
+/// plain casts can silently not round at all (floatBelow/floatAbove stay conservative under that fold: they step).
+inline double roundToFloat(double x) {
+  const __m128d d = _mm_set_sd(x);
+  return _mm_cvtsd_f64(_mm_cvtss_sd(d, _mm_cvtsd_ss(_mm_setzero_ps(), d)));
 }
 /// The largest float strictly below x / the smallest float strictly above x (conservative bounds of a double that
 /// may itself carry one rounding: a float strictly below a double is at least one double ulp below it). Doubles

@@ -13,7 +13,7 @@ namespace whitted::bench {
 namespace {
 
 double toFloat(double x) {
-  return double(float(x));
+  return whitted::roundToFloat(x);  // not double(float(x)): GCC 12 folds that to x here (core/math.h)
 }
 Vec3 toFloat(const Vec3& v) {
   return Vec3(toFloat(v.x), toFloat(v.y), toFloat(v.z));
