@@ -17,6 +17,8 @@ Camera Camera::fromViewProjection(const Mat4& worldToClip) {
   Camera c;
   c.worldToClip_ = worldToClip;
   c.clipToWorld_ = glm::inverse(worldToClip);
+  c.nearZW_ = c.clipToWorld_[2] * -1.0 + c.clipToWorld_[3];
+  c.farZW_ = c.clipToWorld_[2] * 1.0 + c.clipToWorld_[3];
   Vec3 up = unproject(c.clipToWorld_, 0.0, 1.0, -1.0) - unproject(c.clipToWorld_, 0.0, -1.0, -1.0);
   Vec3 fwd = unproject(c.clipToWorld_, 0.0, 0.0, 1.0) - unproject(c.clipToWorld_, 0.0, 0.0, -1.0);
   if (glm::length(up) > 0.0) c.up_ = glm::normalize(up);
@@ -40,8 +42,11 @@ Camera Camera::parallel(const Vec3& eye, const Vec3& focal, const Vec3& up, doub
 }
 
 Ray Camera::rayNdc(double x, double y) const {
-  Vec3 pNear = unproject(clipToWorld_, x, y, -1.0);
-  Vec3 pFar = unproject(clipToWorld_, x, y, 1.0);
+  // unproject() at z = -1 and z = 1, sharing the x and y terms (bit-identical: see nearZW_)
+  const Vec4 xy = clipToWorld_[0] * x + clipToWorld_[1] * y;
+  const Vec4 hNear = xy + nearZW_, hFar = xy + farZW_;
+  Vec3 pNear = Vec3(hNear) / hNear.w;
+  Vec3 pFar = Vec3(hFar) / hFar.w;
   Ray r;
   r.origin = pNear;
   Vec3 d = pFar - pNear;
@@ -53,8 +58,11 @@ Ray Camera::rayNdc(double x, double y) const {
 }
 
 double Camera::glDepth(const Vec3& world) const {
-  Vec4 c = worldToClip_ * Vec4(world, 1.0);
-  return 0.5 * (c.z / c.w) + 0.5;
+  // Rows z and w of worldToClip_ * (world, 1), summed in glm's order (same bits, half the work)
+  const Mat4& m = worldToClip_;
+  const double z = (m[0][2] * world.x + m[1][2] * world.y) + (m[2][2] * world.z + m[3][2]);
+  const double w = (m[0][3] * world.x + m[1][3] * world.y) + (m[2][3] * world.z + m[3][3]);
+  return 0.5 * (z / w) + 0.5;
 }
 
 }  // namespace whitted

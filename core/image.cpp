@@ -12,7 +12,9 @@ std::vector<uint8_t> toRgba8(const FrameBuffer& fb) {
     for (int c = 0; c < 4; ++c) {
       float v = fb.color[i][c];
       v = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
-      out[i * 4 + c] = uint8_t(std::lround(v * 255.0f));
+      // lround of a float in [0, 255]: the sum in double is exact, so floor(x + 0.5) rounds half away from zero
+      // as lround does, without its libm call
+      out[i * 4 + c] = uint8_t(double(v * 255.0f) + 0.5);
     }
   return out;
 }
@@ -86,10 +88,16 @@ bool writePng(const std::string& path, int width, int height, const std::vector<
     z.insert(z.end(), raw.begin() + std::ptrdiff_t(pos), raw.begin() + std::ptrdiff_t(pos + len));
     pos += len;
   } while (pos < raw.size());
+  // Adler-32, reduced modulo 65521 once per 5552 bytes (zlib's NMAX: the most bytes before b can overflow 32 bits)
   uint32_t a = 1, b = 0;
-  for (uint8_t c : raw) {
-    a = (a + c) % 65521;
-    b = (b + a) % 65521;
+  for (std::size_t first = 0; first < raw.size(); first += 5552) {
+    const std::size_t last = std::min(raw.size(), first + 5552);
+    for (std::size_t k = first; k < last; ++k) {
+      a += raw[k];
+      b += a;
+    }
+    a %= 65521;
+    b %= 65521;
   }
   put32(z, (b << 16) | a);
   chunk(f, "IDAT", z);

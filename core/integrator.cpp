@@ -1,7 +1,8 @@
 #include "integrator.h"
 
 #include <algorithm>
-#include <optional>
+#include <new>
+#include <type_traits>
 
 namespace whitted {
 
@@ -20,8 +21,15 @@ RayStats& RayStats::operator+=(const RayStats& o) {
   return *this;
 }
 
+static_assert(std::is_trivially_destructible_v<Material>, "radiance() keeps an edge material in a union");
+
 Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings, const Vec3& cameraUp)
     : scene_(scene), s_(settings), up_(cameraUp) {
+  // A light of zero colour or intensity adds nothing (and traces no shadow ray): left out here
+  for (const Light& l : scene.lights()) {
+    PreparedLight pl = prepareLight(l);
+    if (maxComponent(pl.radiance) > 0.0f) lights_.push_back(pl);
+  }
   s_.maxDepth = std::max(0, s_.maxDepth);
   if (!(s_.contributionThreshold >= 0.0f)) s_.contributionThreshold = 0.0f;
   const Features& f = scene.features();
@@ -163,10 +171,10 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
   const bool wantDiffuse = maxComponent(dif) > 0.0f, wantSpecular = maxComponent(spe) > 0.0f;
   if (!wantDiffuse && !wantSpecular) return amb;
   Color diffuse(0.0f), specular(0.0f);
-  for (const Light& light : scene_.lights()) {
-    Color lc = light.color * light.intensity;
-    if (!(maxComponent(lc) > 0.0f)) continue;
-    LightSample ls = sampleLight(light, sp.p);
+  for (const PreparedLight& pl : lights_) {
+    const Light& light = *pl.light;
+    Color lc = pl.radiance;
+    LightSample ls = sampleLight(pl, sp.p);
     double att = ls.attenuation;
     double df = std::max(0.0, att * glm::dot(n, ls.toLight));
     if (!(df > 0.0)) continue;  // VTK: specular only where df > 0
@@ -174,7 +182,9 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
       if (s_.headlightShading) return std::pow(df, double(m.specularPower));
       Vec3 ld = -ls.toLight;
       Vec3 r = ld - 2.0 * glm::dot(n, ld) * n;
-      return att * std::pow(std::max(0.0, glm::dot(r, v)), double(m.specularPower));
+      // pow(0, power) is exactly 0 for power > 0: the highlight's far side costs no pow()
+      const double rv = std::max(0.0, glm::dot(r, v));
+      return rv > 0.0 || !(m.specularPower > 0.0f) ? att * std::pow(rv, double(m.specularPower)) : att * 0.0;
     };
 
     if constexpr (Shadows) {
@@ -239,12 +249,17 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
   const Material* mp = &scene_.material(sp.material);
   if (backFace && mp->backMaterial >= 0) mp = &scene_.material(uint32_t(mp->backMaterial));
   const double pathHere = scene_.features().edges ? ps.pathLength + hit.t * glm::length(ray.dir) : 0.0;
-  std::optional<Material> edge;  // constructed only on edge pixels
+  // Constructed only on edge pixels. Performance note: a union, not std::optional, whose storage the compiler
+  // zero-fills at every hit (Material is trivially destructible, so nothing needs to end its life)
+  union EdgeSlot {
+    EdgeSlot() {}
+    Material m;
+  } edge;
   if (scene_.features().edges && mp->edgeWidth > 0.0f) {
     const double halfWidth = 0.5 * double(mp->edgeWidth) * (s_.pixelSize + s_.pixelAngle * pathHere);
     if (halfWidth > 0.0 && scene_.edgeDistance(ray, hit, sp.p) <= halfWidth) {
-      edge = edgeMaterial(*mp);
-      mp = &*edge;
+      new (&edge.m) Material(edgeMaterial(*mp));
+      mp = &edge.m;
       nf = v;
     }
   }

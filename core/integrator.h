@@ -129,6 +129,8 @@ class Integrator {
   };
   using Kernel = Color (Integrator::*)(const Ray&, int, Color, bool, RayStats&, PathState&, double*, Vec3*) const;
   const Scene& scene_;
+  /// The scene's lights that can add light (colour x intensity > 0), prepared once per frame.
+  std::vector<PreparedLight> lights_;
   IntegratorSettings s_;
   Vec3 up_;
   bool reflect_, refract_, shadows_;

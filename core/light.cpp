@@ -10,8 +10,19 @@ Vec3 Light::direction() const {
   return len > 0.0 && std::isfinite(len) ? d / len : Vec3(0.0, 0.0, -1.0);
 }
 
-LightSample sampleLight(const Light& light, const Vec3& p) {
-  if (!light.positional) return LightSample{-light.direction(), kInfinity, 1.0};
+PreparedLight prepareLight(const Light& light) {
+  PreparedLight pl;
+  pl.light = &light;
+  pl.radiance = light.color * light.intensity;
+  pl.spot = light.positional && light.coneAngle < 90.0;
+  if (!light.positional || pl.spot) pl.direction = light.direction();
+  if (pl.spot) pl.cosCone = std::cos(light.coneAngle * kPi / 180.0);
+  return pl;
+}
+
+LightSample sampleLight(const PreparedLight& pl, const Vec3& p) {
+  const Light& light = *pl.light;
+  if (!light.positional) return LightSample{-pl.direction, kInfinity, 1.0};
 
   // Distance attenuation, clamped to at most 1 so a light never amplifies (A = min(1, 1/(a + b d + c d^2)))
   Vec3 toLight = light.position - p;
@@ -21,9 +32,9 @@ LightSample sampleLight(const Light& light, const Vec3& p) {
   double att = denom > 0.0 ? std::min(1.0, 1.0 / denom) : 1.0;
 
   // Spot cone: VTK treats cone angles of 90 degrees or more as an omni-directional light
-  if (light.coneAngle < 90.0) {
-    double coneDot = glm::dot(-l, light.direction());
-    if (coneDot >= std::cos(light.coneAngle * kPi / 180.0))
+  if (pl.spot) {
+    double coneDot = glm::dot(-l, pl.direction);
+    if (coneDot >= pl.cosCone)
       att *= std::pow(std::max(coneDot, 0.0), light.exponent);
     else
       att = 0.0;

@@ -31,8 +31,23 @@ struct LightSample {
   double attenuation;
 };
 
+/// What shading needs of a light that does not depend on the lit point, computed once per frame (the light's
+/// direction, the cosine of its cone, its colour times intensity) so that a hit costs no square root, division or
+/// cosine beyond the point's own.
+struct PreparedLight {
+  const Light* light = nullptr;
+  Color radiance{0.0f};   ///< color * intensity.
+  Vec3 direction{0.0};    ///< light->direction() (directional lights and spots).
+  double cosCone = -1.0;  ///< cos(coneAngle) of a spot light.
+  bool spot = false;      ///< Positional with coneAngle < 90 degrees.
+};
+PreparedLight prepareLight(const Light& light);
+
 /// Evaluates VTK's attenuation and spot cone for point p.
-LightSample sampleLight(const Light& light, const Vec3& p);
+LightSample sampleLight(const PreparedLight& light, const Vec3& p);
+inline LightSample sampleLight(const Light& light, const Vec3& p) {
+  return sampleLight(prepareLight(light), p);
+}
 
 /// Sanitises a light in place so no input can produce a NaN pixel: colour and intensity clamped to [0, 1e6]
 /// (non-finite: 0), a light with a non-finite position, focal point, attenuation, cone angle or exponent switched

@@ -16,20 +16,4 @@ Bounds3 transformBounds(const Mat4& m, const Bounds3& b) {
   return out;
 }
 
-Vec3 offsetRayOrigin(const Vec3& p, const Vec3& pError, const Vec3& n, const Vec3& w) {
-  // Distance along the normal that is guaranteed to clear the error box around p
-  double d = glm::dot(glm::abs(n), pError);
-  Vec3 offset = d * n;
-  if (glm::dot(w, n) < 0.0) offset = -offset;
-  Vec3 po = p + offset;
-  // Round away from p so the addition's own rounding cannot bring the origin back inside the box
-  for (int i = 0; i < 3; ++i) {
-    if (offset[i] > 0.0)
-      po[i] = std::nextafter(po[i], kInfinity);
-    else if (offset[i] < 0.0)
-      po[i] = std::nextafter(po[i], -kInfinity);
-  }
-  return po;
-}
-
 }  // namespace whitted

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <initializer_list>
 #include <limits>
+#include <type_traits>
 
 namespace whitted {
 
@@ -49,19 +50,30 @@ constexpr double gammaBound(int n) {
   return (n * eps) / (1.0 - n * eps);
 }
 
-/// The next float toward +inf / -inf (IEEE nextafter without the libm call: this runs per ray in traversal setup).
-/// NaN and the infinity in the direction of the step are returned unchanged.
-inline float nextFloatUp(float f) {
-  if (!(f < std::numeric_limits<float>::infinity())) return f;  // NaN, +inf
-  if (f == 0.0f) return std::numeric_limits<float>::denorm_min();
-  uint32_t u;
+/// The next value toward +inf / -inf of a float or double (IEEE nextafter without the libm call: this runs per ray
+/// in traversal setup and for every secondary ray's origin). NaN and the infinity in the direction of the step are
+/// returned unchanged.
+template <typename T>
+inline T nextUp(T f) {
+  static_assert(std::is_floating_point_v<T> && (sizeof(T) == 4 || sizeof(T) == 8));
+  using Bits = std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>;
+  if (!(f < std::numeric_limits<T>::infinity())) return f;  // NaN, +inf
+  if (f == T(0)) return std::numeric_limits<T>::denorm_min();
+  Bits u;
   std::memcpy(&u, &f, sizeof u);
-  u = f > 0.0f ? u + 1 : u - 1;
+  u = f > T(0) ? u + 1 : u - 1;
   std::memcpy(&f, &u, sizeof u);
   return f;
 }
+template <typename T>
+inline T nextDown(T f) {
+  return -nextUp(-f);
+}
+inline float nextFloatUp(float f) {
+  return nextUp(f);
+}
 inline float nextFloatDown(float f) {
-  return -nextFloatUp(-f);
+  return nextDown(f);
 }
 /// x rounded to the nearest float, returned as a double. Through SSE2 intrinsics on purpose: GCC 12's vectorizer
 /// (at -O2, and at our -O3 in some loop shapes) folds double(float(x)) back to x in loops over glm vectors, so the
@@ -140,7 +152,22 @@ Bounds3 transformBounds(const Mat4& m, const Bounds3& b);
 /// p is the computed hit point, pError a per-axis bound on its absolute floating-point error, n the geometric
 /// normal and w the new direction. The point is pushed along n by the error bound projected on |n|, to the side
 /// w points to, then rounded away from the surface by one ulp per axis.
-Vec3 offsetRayOrigin(const Vec3& p, const Vec3& pError, const Vec3& n, const Vec3& w);
+/// Performance note: inline, without libm's nextafter: it runs for every shadow, reflected and refracted ray.
+inline Vec3 offsetRayOrigin(const Vec3& p, const Vec3& pError, const Vec3& n, const Vec3& w) {
+  // Distance along the normal that is guaranteed to clear the error box around p
+  const double d = glm::dot(glm::abs(n), pError);
+  Vec3 offset = d * n;
+  if (glm::dot(w, n) < 0.0) offset = -offset;
+  Vec3 po = p + offset;
+  // Round away from p so the addition's own rounding cannot bring the origin back inside the box
+  for (int i = 0; i < 3; ++i) {
+    if (offset[i] > 0.0)
+      po[i] = nextUp(po[i]);
+    else if (offset[i] < 0.0)
+      po[i] = nextDown(po[i]);
+  }
+  return po;
+}
 
 /// Deterministic hash of up to four integers to a float in [0,1) (PCG-style mixing).
 inline uint32_t hashU32(uint32_t a, uint32_t b = 0, uint32_t c = 0, uint32_t d = 0) {
