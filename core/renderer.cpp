@@ -354,6 +354,7 @@ class FrameJob {
                               std::chrono::duration<double>(s_.timeBudget - before));
     if (fs.progress.empty()) fs.progress.emplace_back(elapsed(), fs.total.rms);
     marks_.assign(std::size_t(w_) * h_, 0);
+    coarse_ = makeCoarse();
     const int maxLevel = loosestLevel();
     int rounds = 0;
     fs.refinementFinished = false;
@@ -369,22 +370,26 @@ class FrameJob {
       auto canSample = [&](std::size_t i) { return acc_[i].n < maxSamples && fb_.sampling[i] > 0.0f; };
       auto canLoosen = [&](std::size_t i) { return acc_[i].level < maxLevel && fb_.truncation[i] > 0.0f; };
       auto estimate = [&](std::size_t i) { return fb_.truncation[i] + fb_.sampling[i]; };
-      // The cut-off: the 75th percentile of the refinable pixels' estimates, at least half the target
+      // What refining a pixel gains per sample it costs: its squared estimate (the share of the image's squared
+      // error it can remove) over its samples (what doubling or retracing them costs)
+      auto priority = [&](std::size_t i) { return estimate(i) * estimate(i) / float(acc_[i].n); };
+      // The cut-off: the 75th percentile of the refinable pixels' priorities; only pixels above half the target
       std::vector<float> candidates;
       for (std::size_t i = 0; i < acc_.size(); ++i)
-        if (fb_.traced[i] && (canSample(i) || canLoosen(i))) candidates.push_back(estimate(i));
+        if (fb_.traced[i] && (canSample(i) || canLoosen(i))) candidates.push_back(priority(i));
       if (candidates.empty()) {
         fs.refinementFinished = true;
         break;
       }
       auto q = candidates.begin() + std::ptrdiff_t(candidates.size() * 3 / 4);
       std::nth_element(candidates.begin(), q, candidates.end());
-      const float cut = std::max(*q, float(0.5 * s_.targetError));
+      const float cut = *q;
+      const float least = float(0.5 * s_.targetError);
       std::size_t marked = 0;
       int deepest = 0;  // the loosest level a marked pixel is traced at this round
       for (std::size_t i = 0; i < acc_.size(); ++i) {
         marks_[i] = kKeep;
-        if (!fb_.traced[i] || estimate(i) < cut || estimate(i) <= 0.0f) continue;
+        if (!fb_.traced[i] || estimate(i) < least || estimate(i) <= 0.0f || priority(i) < cut) continue;
         const bool sample = canSample(i), loosen = canLoosen(i);
         if (loosen && (!sample || fb_.truncation[i] >= fb_.sampling[i]))
           marks_[i] = kLoosen;
@@ -411,6 +416,11 @@ class FrameJob {
 
   enum : uint8_t { kKeep = 0, kSample = 1, kLoosen = 2 };
   static constexpr int kFirstStrata = 4;  ///< A refined one-sample pixel's first stratified grid.
+  /// Coarse level of extra samples (see makeCoarse): the threshold factor and cap, and how far a pixel's sampling
+  /// estimate must exceed its truncation bound for its refined samples to be traced coarse.
+  static constexpr float kCoarseFactor = 16.0f;
+  static constexpr float kCoarseThreshold = 64.0f / 255.0f;
+  static constexpr float kCoarseMargin = 4.0f;
 
   // The integrator settings of a loosening level: maxDepth doubled (at least +2, at most 64) and the threshold
   // divided by 16 per level
@@ -434,12 +444,25 @@ class FrameJob {
     return level;
   }
 
+  // The coarse level -1 of extra samples: the contribution threshold x kCoarseFactor (at most kCoarseThreshold,
+  // never below the frame's), depth as the frame's. Null when it would trace as the frame does (threshold 0 or
+  // already at the cap).
+  std::unique_ptr<Integrator> makeCoarse() const {
+    IntegratorSettings is = s_.integrator;
+    const float t = std::max(is.contributionThreshold, std::min(kCoarseThreshold, is.contributionThreshold * kCoarseFactor));
+    if (!(t > is.contributionThreshold)) return nullptr;
+    is.contributionThreshold = t;
+    return std::make_unique<Integrator>(scene_, is, camera_.up());
+  }
+
   // Builds the integrators of levels 1..level not built yet (on the calling thread)
   void prepareLevels(int level) {
     while (int(levels_.size()) < level)
       levels_.push_back(std::make_unique<Integrator>(scene_, levelSettings(int(levels_.size()) + 1), camera_.up()));
   }
-  const Integrator& integratorAt(int level) const { return level == 0 ? integ_ : *levels_[std::size_t(level - 1)]; }
+  const Integrator& integratorAt(int level) const {
+    return level == 0 ? integ_ : level < 0 ? *coarse_ : *levels_[std::size_t(level - 1)];
+  }
 
   void refinePixels(int tileSlot, int maxSamples) {
     RayStats& st = tileStats_[tileSlot];
@@ -457,10 +480,13 @@ class FrameJob {
         ps = fresh;
       } else if (ps.n == 1 && ps.strata == 1 && maxSamples >= kFirstStrata) {
         // Only the centre sample: replaced by a jittered 2x2 grid (as adaptive sampling's second pass does),
-        // which later rounds continue with the sequence
+        // which later rounds continue with the sequence; traced at the coarse level when the pixel's sampling
+        // estimate is well above its truncation bound (the level's own bound is summed as for any sample)
         PixelSums fresh;
         fresh.strata = kFirstStrata;
-        fresh.level = ps.level;
+        fresh.level = ps.level == 0 && coarse_ && fb_.truncation[idx] * kCoarseMargin < fb_.sampling[idx]
+                          ? -1
+                          : ps.level;
         addSamples(px, py, 0, kFirstStrata, integratorAt(fresh.level), fresh, st, rowBackground);
         samples += kFirstStrata - 1;
         retraced += 1;
@@ -605,6 +631,7 @@ class FrameJob {
   std::vector<PixelSums> acc_;                                     ///< Per-pixel sums, kept for progressive refinement.
   std::optional<std::chrono::steady_clock::time_point> deadline_;  ///< Refinement stops taking tiles past it.
   std::vector<std::unique_ptr<Integrator>> levels_;                ///< Loosening levels 1.. (progressive refinement).
+  std::unique_ptr<Integrator> coarse_;                             ///< Level -1 (see makeCoarse); may be null.
   std::atomic<uint64_t> samples_{0}, supersampled_{0}, retraced_{0};
   std::atomic<double> longestTile_{0.0};
   bool aborted_ = false;
