@@ -37,14 +37,6 @@ size = wt.SIZE
 view = wt.make_view(size)
 wt.build_scene(view)
 check = wt.Checks()
-
-
-def info(name):
-    """An information property: read from the client's view object (see vtkPVWhittedView)"""
-    view.UpdatePropertyInformation()
-    return view.GetProperty(name).GetData()
-
-
 pattern = re.compile(r"Whitted: \d+ ms, ([0-9.]+) spp, error ([0-9.]+) \(RMS estimate\)\n(.*)")
 
 
@@ -56,9 +48,9 @@ def shot(name):
 plain = shot("plain")
 view.ShowErrorAnnotation = 1
 annotated = shot("annotation")
-text = info("ErrorAnnotationText")
+text = wt.info(view, "ErrorAnnotationText")
 m = pattern.match(text)
-check(info("TracedFrameCount") == 0, "client's tracer idle: %d frames" % info("TracedFrameCount"))
+check(wt.info(view, "TracedFrameCount") == 0, "client's tracer idle: %d frames" % wt.info(view, "TracedFrameCount"))
 check(bool(m) and float(m.group(1)) == 1.0 and float(m.group(2)) > 0.0 and m.group(3) == "no target",
       "client's annotation text is the server's frame: %r" % text)
 first = float(m.group(2)) if m else 0.0
@@ -73,7 +65,7 @@ check(len(rows) > 200 and rows.max() < 60 and cols.min() >= 4 and cols.max() < s
 # 3. A refined frame: the text follows it
 view.TargetError = 0.5 * first
 Render(view)
-text = info("ErrorAnnotationText")
+text = wt.info(view, "ErrorAnnotationText")
 m = pattern.match(text)
 check(bool(m) and float(m.group(1)) > 1.0 and float(m.group(2)) <= 0.5 * first and m.group(3).endswith(" met"),
       "refined frame: %r (target %.4f)" % (text, 0.5 * first))
