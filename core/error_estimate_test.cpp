@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <string>
 
 using namespace whitted;
 
@@ -331,4 +332,52 @@ TEST(ErrorEstimate, RefinementContinuesAcrossCalls) {
   const FrameStats other = render(s, cam, rs, w / 2, h / 2, step);
   EXPECT_EQ(other.refinementRounds, 1);
   EXPECT_EQ(state.width, w / 2);
+}
+
+// Progressive display with rounds cut short: a time slice shorter than a tile (each call refines one tile per
+// thread) or an abort after every tile leaves the round unfinished; the next call finishes it first, so the frame
+// reached is the one refined in one call, bit for bit, with the same rounds and samples. Fails if a cut round's
+// remaining pixels are dropped or re-picked (other pixels refined) or if a slice does not cut a round.
+TEST(ErrorEstimate, RoundCutShortIsFinishedByTheNextCall) {
+  const ClassicFirstPass c;
+  RenderSettings rs;
+  rs.threads = 1;
+  rs.tileSize = 8;
+  rs.targetError = 0.5 * c.first.total.rms;
+  FrameBuffer whole;
+  const FrameStats once = render(c.s, c.cam, rs, c.w, c.h, whole);
+  ASSERT_TRUE(once.targetMet);
+  ASSERT_GT(once.refinementRounds, 1);
+
+  for (const char* how : {"slice", "abort"}) {
+    RefinementState state;
+    RenderSettings step = rs;
+    step.refinement = &state;
+    step.maxRefinementRounds = 1;
+    FrameBuffer fb;
+    FrameStats fs = render(c.s, c.cam, step, c.w, c.h, fb);  // first pass and a whole round
+    ASSERT_EQ(fs.refinementRounds, 1) << how;
+    if (std::string(how) == "slice")
+      step.refinementSlice = 1e-9;
+    else
+      step.abortCheck = [] { return true; };
+    int calls = 0, cut = 0;
+    do {
+      const int before = fs.refinementRounds;
+      fs = render(c.s, c.cam, step, c.w, c.h, fb);
+      ++calls;
+      if (fs.refinementRounds == before && !fs.refinementFinished) {
+        ++cut;
+        EXPECT_FALSE(state.pending.empty()) << how << " call " << calls;
+      }
+    } while (!fs.refinementFinished && calls < 5000);
+    std::printf("%s: %d calls, %d of them cut a round short\n", how, calls, cut);
+    EXPECT_GT(cut, once.refinementRounds) << how;  // rounds were cut (a round has many tiles)
+    EXPECT_TRUE(fs.targetMet) << how;
+    EXPECT_EQ(fs.refinementRounds, once.refinementRounds) << how;
+    EXPECT_EQ(fs.samples, once.samples) << how;
+    EXPECT_EQ(fb.samples, whole.samples) << how;
+    EXPECT_TRUE(fb.color == whole.color) << how;
+    EXPECT_TRUE(state.pending.empty()) << how;
+  }
 }

@@ -137,7 +137,7 @@ class FrameJob {
         if (resume && keep->finished)
           fs.targetMet = s_.targetError > 0.0 && fs.total.rms <= s_.targetError;
         else
-          refine(threads, start, before, fs);
+          refine(threads, start, before, fs, keep);
       }
     }
     fs.secondsTrace = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -167,15 +167,17 @@ class FrameJob {
 
  private:
   /// Runs tileFn over this process's tiles on threads workers; the abort check (if checkAbort) and progress (if
-  /// reportProgress) run between tiles. Past deadline_ (if set) no new tile starts.
+  /// reportProgress) run between tiles. Past deadline_ (if set) no new tile starts. tileFn gets 0..tiles-1 (this
+  /// process's tile slots, or fewer if tiles is smaller).
   template <typename Fn>
-  void runPass(int threads, Fn&& tileFn, bool reportProgress = true, bool checkAbort = true) {
+  void runPass(int threads, Fn&& tileFn, bool reportProgress = true, bool checkAbort = true,
+               std::size_t tiles = std::size_t(-1)) {
     std::atomic<std::size_t> next{0};
     std::atomic<std::size_t> done{0};
     std::atomic<bool> abortFlag{aborted_};
     std::mutex errorMutex;
     std::exception_ptr error;
-    const std::size_t total = myTiles_.size();
+    const std::size_t total = std::min(tiles, myTiles_.size());
     std::size_t reported = 0;
     // VTK's abort check and progress must run on the calling (GL) thread
     auto report = [&](std::size_t d) {
@@ -189,9 +191,10 @@ class FrameJob {
       report(d);
     };
     auto worker = [&](bool mainThread) {
-      for (;;) {
+      for (bool first = true;; first = false) {
         if (abortFlag.load(std::memory_order_relaxed)) return;
         if (deadline_ && std::chrono::steady_clock::now() >= *deadline_) break;  // budget spent: no new tile
+        if (checkAbort && !first && sliceOver()) break;  // slice over: no new tile (each worker takes one)
         std::size_t i = next.fetch_add(1);
         if (i >= total) break;
         try {
@@ -222,13 +225,14 @@ class FrameJob {
           break;
         }
         if (deadline_ && std::chrono::steady_clock::now() >= *deadline_) break;  // the join waits for tiles taken
+        if (checkAbort && sliceOver()) break;
         poll(d);
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
       }
     };
     std::vector<std::thread> pool;
     try {
-      for (int t = 1; t < threads && std::size_t(t) < myTiles_.size(); ++t) pool.emplace_back(worker, false);
+      for (int t = 1; t < threads && std::size_t(t) < total; ++t) pool.emplace_back(worker, false);
       worker(true);  // the callbacks may throw too (a VTK observer): caught below after stopping the workers
     } catch (...) {
       std::lock_guard<std::mutex> lock(errorMutex);
@@ -348,12 +352,16 @@ class FrameJob {
     supersampled_ += refined;
   }
 
-  // Progressive rounds: pick the pixels whose estimate (truncation bound + sampling estimate) is largest (the top
-  // quarter of the pixels that can still be refined, and only those above half the target); a picked pixel whose
-  // truncation bound dominates is traced again one loosening level deeper, the others get twice their samples;
-  // re-estimate, until the target is met, the budget is spent, nothing is left to refine or the call's rounds
-  // are used (progressive display). before: tracing seconds earlier calls spent on this frame.
-  void refine(int threads, std::chrono::steady_clock::time_point start, double before, FrameStats& fs) {
+  // Progressive rounds: pick the pixels whose squared estimate (truncation bound + sampling estimate) per sample
+  // is largest (the top quarter of the pixels that can still be refined, and only those above half the target); a
+  // picked pixel whose truncation bound dominates is traced again one loosening level deeper, the others get
+  // more samples; re-estimate, until the target is met, the budget is spent, nothing is left to refine or the
+  // call's rounds are used (progressive display). A round cut short by an abort or the call's time slice keeps
+  // its pixels still to refine in the RefinementState, and the next call finishes it first: the pixels refined
+  // and the frame reached are the same as without the cut. before: tracing seconds earlier calls spent on this
+  // frame.
+  void refine(int threads, std::chrono::steady_clock::time_point start, double before, FrameStats& fs,
+              RefinementState* keep) {
     auto elapsed = [&] {
       return before + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     };
@@ -361,65 +369,141 @@ class FrameJob {
     if (s_.timeBudget > 0.0)
       deadline_ = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                               std::chrono::duration<double>(s_.timeBudget - before));
+    if (s_.refinementSlice > 0.0)
+      sliceEnd_ = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                              std::chrono::duration<double>(s_.refinementSlice));
     if (fs.progress.empty()) fs.progress.emplace_back(elapsed(), fs.total.rms);
-    marks_.assign(std::size_t(w_) * h_, 0);
+    // A round an earlier call cut short: its pixels still to refine, finished before anything else
+    bool pending = keep && keep->pending.size() == std::size_t(w_) * h_;
+    if (pending)
+      marks_ = std::move(keep->pending);
+    else
+      marks_.assign(std::size_t(w_) * h_, 0);
+    if (keep) keep->pending.clear();
+    coarse_ = makeCoarse();
     const int maxLevel = loosestLevel();
     int rounds = 0;
+    bool worked = false;  // this call has refined something (a call always does, whatever its slice)
     fs.refinementFinished = false;
     for (;;) {
+      // (a pending round is finished first: the image it left half refined may meet the target early)
       fs.targetMet = s_.targetError > 0.0 && fs.total.rms <= s_.targetError;
-      if (fs.targetMet || (deadline_ && std::chrono::steady_clock::now() >= *deadline_)) {
+      if ((fs.targetMet && !pending) || (deadline_ && std::chrono::steady_clock::now() >= *deadline_)) {
         fs.refinementFinished = true;
         break;
       }
-      if (aborted_ || (s_.maxRefinementRounds > 0 && rounds >= s_.maxRefinementRounds)) break;
+      if (aborted_ || (s_.maxRefinementRounds > 0 && rounds >= s_.maxRefinementRounds) || (worked && sliceOver())) {
+        if (pending && keep) keep->pending = std::move(marks_);
+        break;
+      }
+      if (pending) {
+        pending = false;
+        worked = true;
+        refineRound(threads, maxSamples);
+        if (cutShort(threads, fs, keep)) break;
+        finishRound(threads, fs, rounds, elapsed());
+        continue;
+      }
       // What each pixel can still get: more samples (if its samples disagree), a looser level (if anything was
       // cut)
       auto canSample = [&](std::size_t i) { return acc_[i].n < maxSamples && fb_.sampling[i] > 0.0f; };
       auto canLoosen = [&](std::size_t i) { return acc_[i].level < maxLevel && fb_.truncation[i] > 0.0f; };
       auto estimate = [&](std::size_t i) { return fb_.truncation[i] + fb_.sampling[i]; };
-      // The cut-off: the 75th percentile of the refinable pixels' estimates, at least half the target
+      // What refining a pixel gains per sample it costs: its squared estimate (the share of the image's squared
+      // error it can remove) over its samples (what doubling or retracing them costs)
+      auto priority = [&](std::size_t i) { return estimate(i) * estimate(i) / float(acc_[i].n); };
+      // The cut-off: the 75th percentile of the refinable pixels' priorities; only pixels above half the target
       std::vector<float> candidates;
       for (std::size_t i = 0; i < acc_.size(); ++i)
-        if (fb_.traced[i] && (canSample(i) || canLoosen(i))) candidates.push_back(estimate(i));
+        if (fb_.traced[i] && (canSample(i) || canLoosen(i))) candidates.push_back(priority(i));
       if (candidates.empty()) {
         fs.refinementFinished = true;
         break;
       }
       auto q = candidates.begin() + std::ptrdiff_t(candidates.size() * 3 / 4);
       std::nth_element(candidates.begin(), q, candidates.end());
-      const float cut = std::max(*q, float(0.5 * s_.targetError));
+      const float cut = *q;
+      const float least = float(0.5 * s_.targetError);
       std::size_t marked = 0;
-      int deepest = 0;  // the loosest level a marked pixel is traced at this round
       for (std::size_t i = 0; i < acc_.size(); ++i) {
         marks_[i] = kKeep;
-        if (!fb_.traced[i] || estimate(i) < cut || estimate(i) <= 0.0f) continue;
+        if (!fb_.traced[i] || estimate(i) < least || estimate(i) <= 0.0f || priority(i) < cut) continue;
         const bool sample = canSample(i), loosen = canLoosen(i);
         if (loosen && (!sample || fb_.truncation[i] >= fb_.sampling[i]))
           marks_[i] = kLoosen;
         else if (sample)
-          marks_[i] = kSample;
-        if (marks_[i] != kKeep) deepest = std::max(deepest, acc_[i].level + (marks_[i] == kLoosen ? 1 : 0));
+          // A centre sample whose sampling estimate is well above its truncation bound: its grid goes coarse
+          marks_[i] = acc_[i].n == 1 && acc_[i].strata == 1 && acc_[i].level == 0 && coarse_ &&
+                              fb_.truncation[i] * kCoarseMargin < fb_.sampling[i]
+                          ? kSampleCoarse
+                          : kSample;
         marked += marks_[i] != kKeep;
       }
       if (marked == 0) {
         fs.refinementFinished = true;
         break;
       }
-      prepareLevels(deepest);
-      runPass(
-          threads, [&](int tile) { refinePixels(tile, maxSamples); }, false, true);
-      ++fs.refinementRounds;
-      ++rounds;
-      runPass(threads, [&](int tile) { estimateFromNeighbours(tile); }, false, false);
-      summarizeErrors(fs);
-      fs.progress.emplace_back(elapsed(), fs.total.rms);
+      worked = true;
+      refineRound(threads, maxSamples);
+      if (cutShort(threads, fs, keep)) break;
+      finishRound(threads, fs, rounds, elapsed());
     }
     deadline_.reset();
+    sliceEnd_.reset();
   }
 
-  enum : uint8_t { kKeep = 0, kSample = 1, kLoosen = 2 };
+  // Refines the marked pixels over the tiles that have any (a tile's pixels are unmarked as they are refined)
+  void refineRound(int threads, int maxSamples) {
+    int deepest = 0;  // the loosest level a marked pixel is traced at
+    for (std::size_t i = 0; i < acc_.size(); ++i)
+      if (marks_[i] == kLoosen)
+        deepest = std::max(deepest, acc_[i].level + 1);
+      else if (marks_[i] == kSample)
+        deepest = std::max(deepest, acc_[i].level);
+    prepareLevels(deepest);
+    std::vector<int> slots;
+    for (int slot = 0; slot < int(myTiles_.size()); ++slot) {
+      bool any = false;
+      forTilePixels(slot, [&](int, int, std::size_t idx, const Color&) { any = any || marks_[idx] != kKeep; });
+      if (any) slots.push_back(slot);
+    }
+    runPass(
+        threads, [&](int i) { refinePixels(slots[std::size_t(i)], maxSamples); }, false, true, slots.size());
+  }
+
+  // Whether the round just run was cut short by an abort or the time slice (not the budget, which ends the
+  // frame): then its pixels still marked are kept
+  // for the next call (and, unless aborted, the estimate is brought up to the image shown)
+  bool cutShort(int threads, FrameStats& fs, RefinementState* keep) {
+    if (deadline_ && std::chrono::steady_clock::now() >= *deadline_) return false;
+    if (std::none_of(marks_.begin(), marks_.end(), [](uint8_t m) { return m != kKeep; })) return false;
+    if (keep) keep->pending = std::move(marks_);
+    if (!aborted_) {
+      runPass(threads, [&](int tile) { estimateFromNeighbours(tile); }, false, false);
+      summarizeErrors(fs);
+    }
+    return true;
+  }
+
+  // After a round: re-estimate, count it and record the progress
+  void finishRound(int threads, FrameStats& fs, int& rounds, double seconds) {
+    ++fs.refinementRounds;
+    ++rounds;
+    runPass(threads, [&](int tile) { estimateFromNeighbours(tile); }, false, false);
+    summarizeErrors(fs);
+    fs.progress.emplace_back(seconds, fs.total.rms);
+  }
+
+  // The call's time slice (RenderSettings::refinementSlice) is over
+  bool sliceOver() const { return sliceEnd_ && std::chrono::steady_clock::now() >= *sliceEnd_; }
+
+  enum : uint8_t { kKeep = 0, kSample = 1, kLoosen = 2, kSampleCoarse = 3 };
   static constexpr int kFirstStrata = 4;  ///< A refined one-sample pixel's first stratified grid.
+  /// Coarse level of extra samples (see makeCoarse): the threshold factor and cap, and how far a pixel's sampling
+  /// estimate must exceed its truncation bound for its refined samples to be traced coarse.
+  static constexpr float kCoarseFactor = 16.0f;
+  static constexpr float kCoarseThreshold = 64.0f / 255.0f;
+  static constexpr float kCoarseMargin = 4.0f;
 
   // The integrator settings of a loosening level: maxDepth doubled (at least +2, at most 64) and the threshold
   // divided by 16 per level
@@ -443,12 +527,25 @@ class FrameJob {
     return level;
   }
 
+  // The coarse level -1 of extra samples: the contribution threshold x kCoarseFactor (at most kCoarseThreshold,
+  // never below the frame's), depth as the frame's. Null when it would trace as the frame does (threshold 0 or
+  // already at the cap).
+  std::unique_ptr<Integrator> makeCoarse() const {
+    IntegratorSettings is = s_.integrator;
+    const float t = std::max(is.contributionThreshold, std::min(kCoarseThreshold, is.contributionThreshold * kCoarseFactor));
+    if (!(t > is.contributionThreshold)) return nullptr;
+    is.contributionThreshold = t;
+    return std::make_unique<Integrator>(scene_, is, camera_.up());
+  }
+
   // Builds the integrators of levels 1..level not built yet (on the calling thread)
   void prepareLevels(int level) {
     while (int(levels_.size()) < level)
       levels_.push_back(std::make_unique<Integrator>(scene_, levelSettings(int(levels_.size()) + 1), camera_.up()));
   }
-  const Integrator& integratorAt(int level) const { return level == 0 ? integ_ : *levels_[std::size_t(level - 1)]; }
+  const Integrator& integratorAt(int level) const {
+    return level == 0 ? integ_ : level < 0 ? *coarse_ : *levels_[std::size_t(level - 1)];
+  }
 
   void refinePixels(int tileSlot, int maxSamples) {
     RayStats& st = tileStats_[tileSlot];
@@ -466,10 +563,11 @@ class FrameJob {
         ps = fresh;
       } else if (ps.n == 1 && ps.strata == 1 && maxSamples >= kFirstStrata) {
         // Only the centre sample: replaced by a jittered 2x2 grid (as adaptive sampling's second pass does),
-        // which later rounds continue with the sequence
+        // which later rounds continue with the sequence; at the coarse level if so marked (its own truncation
+        // bound is summed as for any sample)
         PixelSums fresh;
         fresh.strata = kFirstStrata;
-        fresh.level = ps.level;
+        fresh.level = marks_[idx] == kSampleCoarse ? -1 : ps.level;
         addSamples(px, py, 0, kFirstStrata, integratorAt(fresh.level), fresh, st, rowBackground);
         samples += kFirstStrata - 1;
         retraced += 1;
@@ -617,7 +715,9 @@ class FrameJob {
   bool progressive_ = false;
   std::vector<PixelSums> acc_;                                     ///< Per-pixel sums, kept for progressive refinement.
   std::optional<std::chrono::steady_clock::time_point> deadline_;  ///< Refinement stops taking tiles past it.
+  std::optional<std::chrono::steady_clock::time_point> sliceEnd_;  ///< The call's refinement slice ends here.
   std::vector<std::unique_ptr<Integrator>> levels_;                ///< Loosening levels 1.. (progressive refinement).
+  std::unique_ptr<Integrator> coarse_;                             ///< Level -1 (see makeCoarse); may be null.
   std::atomic<uint64_t> samples_{0}, supersampled_{0}, retraced_{0};
   std::atomic<double> longestTile_{0.0};
   bool aborted_ = false;

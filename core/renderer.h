@@ -50,7 +50,7 @@ struct PixelSums {
   float alpha = 0.0f, err = 0.0f, depth = 1.0f;  ///< Sums of alpha and truncation bounds; nearest depth.
   int n = 0;                                     ///< Samples summed (0: the pixel is not traced by this process).
   int strata = 1;  ///< Samples of the first pass (a stratified grid); later samples continue a 2D sequence.
-  int level = 0;   ///< Loosening level the samples were traced at (see RenderSettings::targetError).
+  int level = 0;  ///< Loosening level the samples were traced at, -1 = coarse (see RenderSettings::targetError).
   bool anyHit = false;
 };
 
@@ -66,6 +66,9 @@ struct RefinementState {
   int rounds = 0;         ///< Refinement rounds run over all calls.
   uint64_t samples = 0;   ///< Camera samples traced over all calls.
   bool finished = false;  ///< Target met, budget spent or nothing left to refine: a call adds nothing.
+  /// A round cut short (abort, RenderSettings::refinementSlice): per pixel, what it still has to do (0: nothing);
+  /// empty when no round is pending. The next call finishes it first.
+  std::vector<uint8_t> pending;
   std::vector<std::pair<double, double>> progress;  ///< As FrameStats::progress, over all calls.
   void reset() { *this = RefinementState{}; }
 };
@@ -91,12 +94,16 @@ struct RenderSettings {
   /// the pixels whose sampling estimate is largest (doubling their count, up to maxProgressiveSamples) until the
   /// RMS of the per-pixel total estimate is at most targetError, the frame has taken timeBudget seconds, or no
   /// pixel can be refined. Either at 0 (the default) leaves it out; both 0: no refinement. Each round picks the
-  /// pixels whose estimate (truncation bound + sampling estimate) is largest; a picked pixel whose truncation
-  /// bound is at least its sampling estimate is traced again with its samples at the next loosening level
-  /// (maxDepth doubled, at least +2, up to 64; contribution threshold / 16; at most kMaxLoosening levels), the
-  /// others get more samples: a pixel with only its centre sample gets a jittered 2x2 grid instead (as adaptive
-  /// sampling does), any other twice its samples, continuing a low-discrepancy sequence (R2, rotated per pixel)
-  /// after its stratified grid.
+  /// quarter of the refinable pixels with the largest squared estimate (truncation bound + sampling estimate)
+  /// per sample (what refining them removes of the image's squared error per sample it costs), at least half the
+  /// target; a picked pixel whose truncation bound is at least its sampling estimate is traced again with its
+  /// samples at the next loosening level (maxDepth doubled, at least +2, up to 64; contribution threshold / 16;
+  /// at most kMaxLoosening levels), the others get more samples: a pixel with only its centre sample gets a
+  /// jittered 2x2 grid instead (as adaptive sampling does), traced at the coarse level (contribution threshold
+  /// x 16, at most 64/255, never below the frame's) when its sampling estimate is over 4x its truncation bound
+  /// (the coarse samples' truncation bounds are summed like any other: where they then dominate, the pixel is
+  /// loosened back to the frame's level and beyond), any other pixel twice its samples at its level, continuing a
+  /// low-discrepancy sequence (R2, rotated per pixel) after its stratified grid.
   double targetError = 0.0;
   double timeBudget = 0.0;          ///< Seconds for the whole frame; checked between tiles (overshoot <= one tile).
   int maxProgressiveSamples = 256;  ///< Most samples a pixel gets from refinement. Default 256.
@@ -104,6 +111,10 @@ struct RenderSettings {
   /// whole frame.
   RefinementState* refinement = nullptr;
   int maxRefinementRounds = 0;  ///< Refinement rounds per call; 0 (the default) = until finished.
+  /// Progressive display: seconds after which a call's refinement starts no new tile (checked with abortCheck,
+  /// between tiles), cutting a round short; the next call finishes that round first, so the frames reached are
+  /// those of uncut rounds. Bounds how long a call keeps the caller (a GUI) from reacting. 0 (the default): none.
+  double refinementSlice = 0.0;
   /// Called on the calling thread between tiles; return true to abort the frame. May be empty.
   std::function<bool()> abortCheck;
   /// Called on the calling thread with the fraction done. May be empty.
@@ -128,7 +139,8 @@ struct FrameStats {
   double longestTileSeconds = 0.0;  ///< Wall time of the slowest tile of any pass (the budget's granularity).
   bool targetMet = false;
   /// Refinement is over (target met, budget spent, nothing left to refine, or no refinement asked for); false
-  /// when it stopped at RenderSettings::maxRefinementRounds or was aborted, so another call would improve it.
+  /// when it stopped at RenderSettings::maxRefinementRounds, its slice or an abort, so another call would
+  /// improve it.
   bool refinementFinished = true;
   std::vector<std::pair<double, double>> progress;
   int threads = 1;

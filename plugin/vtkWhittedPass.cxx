@@ -243,6 +243,7 @@ void vtkWhittedPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ShowErrorImage: " << this->ShowErrorImage << "\n";
   os << indent << "ErrorImageScale: " << this->ErrorImageScale << "\n";
   os << indent << "RefinementRoundsPerFrame: " << this->RefinementRoundsPerFrame << "\n";
+  os << indent << "RefinementSliceTime: " << this->RefinementSliceTime << "\n";
   os << indent << "Interactive: " << this->Interactive << "\n";
   os << indent << "InteractiveMaxDepth: " << this->InteractiveMaxDepth << "\n";
   os << indent << "InteractiveShadows: " << this->InteractiveShadows << "\n";
@@ -352,6 +353,7 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
     {
       settings.refinement = &in->Refinement;
       settings.maxRefinementRounds = this->RefinementRoundsPerFrame;
+      settings.refinementSlice = this->RefinementSliceTime;
     }
     // Edge widths in traced pixels: interactive frames (fewer, larger pixels) keep their edges
     SetPixelFootprint(settings.integrator, cam, ren->GetTiledAspectRatio(), traceHeight);

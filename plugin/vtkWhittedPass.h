@@ -186,6 +186,18 @@ public:
 
   ///@{
   /**
+   * Progressive display (RefinementRoundsPerFrame > 0): seconds after which a still frame's
+   * refinement starts no new tile, so a Render() returns within about this time plus one tile
+   * (an abort through the render window's abort check, checked between tiles, cuts it short the
+   * same way). A round cut short is finished first by the next Render(), so the frames reached are
+   * those of uncut rounds. 0 (the default): a Render() runs its rounds whole.
+   */
+  vtkSetClampMacro(RefinementSliceTime, double, 0.0, 3600.0);
+  vtkGetMacro(RefinementSliceTime, double);
+  ///@}
+
+  ///@{
+  /**
    * Image split between processes for sort-last compositing (ParaView/IceT with the scene
    * replicated on every process): trace only the 16x16 tiles whose index modulo stride equals
    * offset and leave every other pixel as cleared (depth 1, alpha 0), so that the depth or
@@ -294,6 +306,7 @@ protected:
   bool ShowErrorImage = vtkWhittedSettings::ShowErrorImage.Default;
   double ErrorImageScale = vtkWhittedSettings::ErrorImageScale.Default;
   int RefinementRoundsPerFrame = 0;
+  double RefinementSliceTime = 0.0;
   bool Interactive = false;
   int InteractiveMaxDepth = vtkWhittedSettings::InteractiveMaxDepth.Default;
   bool InteractiveShadows = vtkWhittedSettings::InteractiveShadows.Default;

@@ -32,8 +32,7 @@ check = wt.Checks()
 
 
 def info(name):
-    view.UpdatePropertyInformation()
-    return view.GetProperty(name).GetData()
+    return wt.info(view, name)
 
 
 def shot(name):

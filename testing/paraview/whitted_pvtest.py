@@ -241,6 +241,12 @@ def time_series(source, mode, steps, amplitude=1.5, value=157.0):
                               Script=script, RequestInformationScript=_TIME_STEPS_SCRIPT % steps)
 
 
+def info(view, name):
+    """An information-only property of the view, fetched again (in client/server mode: the client's view object)"""
+    view.UpdatePropertyInformation()
+    return view.GetProperty(name).GetData()
+
+
 def fail(msg):
     """Reports a failure and exits 1 (os._exit: pvbatch can crash while finalizing after sys.exit)."""
     print("FAILED: " + msg)

@@ -7,12 +7,14 @@
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLState.h"
+#include "vtkMultiProcessStream.h"
 #include "vtkPVDataRepresentation.h"
 #include "vtkPVProgressHandler.h"
 #include "vtkPVRenderViewDataDeliveryManager.h"
 #include "vtkPVSession.h"
 #include "vtkPVSynchronizedRenderer.h"
 #include "vtkPVWhittedPass.h"
+#include "vtkProcessModule.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderWindowInteractor.h"
 #include "vtkRenderer.h"
@@ -66,6 +68,11 @@ vtkPVWhittedView::vtkPVWhittedView()
   text->SetColor(1.0, 1.0, 1.0);
   text->ShadowOn();
   this->GetNonCompositedRenderer()->AddActor2D(this->ErrorAnnotation);
+  // Client/server: the annotation's text travels from the server's root to the client after the
+  // image (see RelayErrorAnnotation); priority -1 runs it after the synchronized renderers' own
+  // end-of-render observer, which sends and receives the image
+  this->AnnotationRelayObserver = this->GetRenderer()->AddObserver(
+    vtkCommand::EndEvent, this, &vtkPVWhittedView::RelayErrorAnnotation, -1.0f);
 }
 
 //------------------------------------------------------------------------------
@@ -73,6 +80,7 @@ vtkPVWhittedView::~vtkPVWhittedView()
 {
   this->WhittedPass->RemoveObservers(vtkCommand::ProgressEvent);
   this->WhittedPass->RemoveObservers(vtkCommand::EndEvent);
+  this->GetRenderer()->RemoveObserver(this->AnnotationRelayObserver);
   this->DetachInteractor();
   this->GetNonCompositedRenderer()->RemoveActor2D(this->ErrorAnnotation);
   this->SynchronizedRenderers->SetRenderPass(nullptr);
@@ -376,6 +384,11 @@ void vtkPVWhittedView::Render(bool interactive, bool skip_rendering)
   pass->SetInteractive(interactive);
   pass->SetInteractiveImageReduction(reduction);
   pass->SetRefinementRoundsPerFrame(this->ProgressiveRoundsForFrame(interactive));
+  // In the GUI a still frame refines for at most an interactive frame's time (a longer round is cut
+  // short and finished by the next frame), so interaction waits no longer than that
+  const bool automatic =
+    this->RefinementRoundsPerRender == 0 && this->ProgressiveRoundsForFrame(interactive) > 0;
+  pass->SetRefinementSliceTime(automatic ? this->InteractiveFrameTime : 0.0);
 
   // Which pass this process runs. A process that draws no geometry in this frame (the client while
   // the server renders: ParaView's culler hands the renderer no props) runs ParaView's default
@@ -389,8 +402,10 @@ void vtkPVWhittedView::Render(bool interactive, bool skip_rendering)
     this->InstalledPass = wanted;
   }
 
+  this->AnnotationRelay = skip_rendering ? RelayNone : this->ErrorAnnotationRelay(distributed);
   const auto start = std::chrono::steady_clock::now();
   this->Superclass::Render(interactive, skip_rendering);
+  this->AnnotationRelay = RelayNone;
   const double seconds =
     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (skip_rendering)
@@ -592,6 +607,53 @@ void vtkPVWhittedView::UpdateErrorAnnotation(bool interactive, int reduction)
   }
   this->ErrorAnnotationText = text;
   this->ErrorAnnotation->SetInput(text);
+}
+
+//------------------------------------------------------------------------------
+int vtkPVWhittedView::ErrorAnnotationRelay(bool distributed)
+{
+  // Only when the server renders for the client (remote rendering), on the two processes that
+  // exchange the image: the client and the server's root (satellites have no client controller).
+  // Both take this decision from the same synchronized state, so a send always meets its receive.
+  vtkPVSession* session = this->GetSession();
+  vtkProcessModule* pm = vtkProcessModule::GetProcessModule();
+  if (!distributed || this->GetMakingSelection() || !session || !pm)
+  {
+    return RelayNone;
+  }
+  switch (pm->GetProcessType())
+  {
+    case vtkProcessModule::PROCESS_CLIENT:
+      return session->GetController(vtkPVSession::RENDER_SERVER_ROOT) ? RelayReceive : RelayNone;
+    case vtkProcessModule::PROCESS_SERVER:
+    case vtkProcessModule::PROCESS_RENDER_SERVER:
+      return session->GetController(vtkPVSession::CLIENT) ? RelaySend : RelayNone;
+    default:
+      return RelayNone;
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPVWhittedView::RelayErrorAnnotation(vtkObject*, unsigned long, void*)
+{
+  // The composited renderer has finished (the server traced and sent its image, the client received
+  // it); the client's non-composited renderer, which draws the annotation, comes next
+  const int relay = this->AnnotationRelay;
+  this->AnnotationRelay = RelayNone;
+  vtkPVSession* session = this->GetSession();
+  if (relay == RelaySend)
+  {
+    vtkMultiProcessStream stream;
+    stream << this->ErrorAnnotationText;
+    session->GetController(vtkPVSession::CLIENT)->Send(stream, 1, ErrorAnnotationTag);
+  }
+  else if (relay == RelayReceive)
+  {
+    vtkMultiProcessStream stream;
+    session->GetController(vtkPVSession::RENDER_SERVER_ROOT)->Receive(stream, 1, ErrorAnnotationTag);
+    stream >> this->ErrorAnnotationText;
+    this->ErrorAnnotation->SetInput(this->ErrorAnnotationText.c_str());
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -25,13 +25,17 @@
  * IceT's depth or ordered-blend compositing assembles the frame. The memory cost is one full copy
  * of the rendered geometry per rank (see README).
  * - Progressive display (ProgressiveDisplay, on by default): a still frame that refines
- * (TargetError or TimeBudget) runs one refinement round per frame in the GUI, and the view renders
- * again (a one-shot timer on its interactor, which ParaView turns into a still render) until the
- * refinement is over; the camera or anything else changing starts over, and interaction cancels the
- * timer. Scripts set RefinementRoundsPerRender and render again while RefinementUnfinished is 1.
+ * (TargetError or TimeBudget) runs one refinement round per frame in the GUI, for at most
+ * InteractiveFrameTime (a longer round is cut short between tiles and finished by the next frame),
+ * and the view renders again (a one-shot timer on its interactor, which ParaView turns into a still
+ * render) until the refinement is over; the camera or anything else changing starts over, and
+ * interaction cancels the timer, so it waits at most about InteractiveFrameTime plus a tile. Scripts
+ * set RefinementRoundsPerRender and render again while RefinementUnfinished is 1.
  * - Error display: ShowErrorAnnotation puts the last frame's time, samples, estimated error and
  * target status in the lower left corner (a text actor in the non-composited renderer, like the
  * render view's own annotations); ShowErrorImage shows the per-pixel error instead of the image.
+ * With a remote server (client/server, the server rendering) the server's root sends the text to
+ * the client after each frame's image, so the client draws it and reports it.
  * - Progress: the pass's ProgressEvent is forwarded to ParaView's progress handler, so long still
  * frames move the GUI's progress bar (and are reported to a remote client).
  * - No work where no geometry is: a process that renders no geometry for this frame (the client
@@ -126,7 +130,8 @@ public:
   /**
    * Progressive display state of the last still frame traced on this process (information-only
    * properties): whether its refinement is unfinished (rendering again would improve it), and the
-   * annotation text (also when the annotation is hidden).
+   * annotation text (also when the annotation is hidden; on a client whose server renders, the
+   * server's text).
    */
   vtkGetMacro(RefinementUnfinished, bool);
   const char* GetErrorAnnotationText();
@@ -291,6 +296,19 @@ private:
   void UpdateErrorAnnotation(bool interactive, int reduction);
   void OnInteractorEvent(vtkObject*, unsigned long event, void* callData);
   void DetachInteractor();
+  // Client/server: the server's root sends the error annotation's text to the client after each
+  // frame it renders for it (see ErrorAnnotationText)
+  enum
+  {
+    RelayNone,
+    RelaySend,
+    RelayReceive
+  };
+  static constexpr int ErrorAnnotationTag = 0x57484954; // "WHIT"
+  int AnnotationRelay = RelayNone;
+  unsigned long AnnotationRelayObserver = 0;
+  int ErrorAnnotationRelay(bool distributed);
+  void RelayErrorAnnotation(vtkObject*, unsigned long, void*);
 };
 
 #endif
