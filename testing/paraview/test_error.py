@@ -59,7 +59,9 @@ Render(view)
 view.UpdatePropertyInformation()
 seconds = view.GetProperty("LastRenderTime")[0]
 rounds = view.GetProperty("LastRefinementRounds")[0]
-check(rounds > 1 and seconds >= 0.3, "budget 0.3 s: frame %.3f s, %d rounds" % (seconds, rounds))
+# At least one round and the whole budget spent (without a budget: 0 rounds, above). Not "more than one round":
+# under CI's load a round of this scene at depth 16 can take most of the 0.3 s.
+check(rounds >= 1 and seconds >= 0.3, "budget 0.3 s: frame %.3f s, %d rounds" % (seconds, rounds))
 if failures:
     wt.fail("%d failures" % len(failures))
 print("test_error: ok")
