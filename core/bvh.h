@@ -181,6 +181,14 @@ class Bvh {
   bool traverse(const Ray& ray, double& tMax, LeafFn&& leaf, uint64_t* nodesVisited = nullptr,
                 LeafData leafData = {}) const {
     if (wide_.empty() || !isFinite(ray.origin) || !isFinite(ray.dir)) return false;
+    // A tree that is one leaf (a one-sphere object, a small mesh): its box was tested by the level above, and the
+    // leaf tests are exact, so the root's box test only costs (8% of the classic scene's instructions)
+    const BvhWideNode& root = wide_[0];
+    if (wide_.size() == 1 && root.count[1] == BvhWideNode::kEmpty && root.count[0] != 0 &&
+        root.count[0] != BvhWideNode::kEmpty) {
+      if (nodesVisited) ++*nodesVisited;
+      return leaf(root.first[0], root.count[0], tMax);
+    }
     const BoxRay br(ray, anchor_);
     struct Entry {
       float t;  // entry distance (box-test units), at most the exact one
