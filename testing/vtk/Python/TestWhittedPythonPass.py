@@ -95,6 +95,46 @@ class TestWhittedPythonPass(Testing.vtkTest):
         window.Render()
         self.assertEqual(rebuilt(), (0, 0, True))
 
+    def testFastTreeIsUpgradedBetweenFrames(self):
+        """Large new geometry is traced with the fast (Morton) tree in the frame that shows it; its SAH tree, built
+        in the background after that frame, is swapped in by a later frame once finished, and the image stays
+        the same (the tree changes only speed)."""
+        import time
+        from whitted_imagetest import grab
+        renderer, window = make_window()
+        sphere = vtkSphereSource()
+        sphere.SetThetaResolution(300)
+        sphere.SetPhiResolution(200)
+        mapper = vtkPolyDataMapper()
+        mapper.SetInputConnection(sphere.GetOutputPort())
+        actor = vtkActor()
+        actor.SetMapper(mapper)
+        renderer.AddActor(actor)
+        p = vtkWhittedPass()
+        renderer.SetPass(p)
+        stats = p.GetLastFrameStatistics()
+        window.Render()
+        self.assertGreaterEqual(stats.GetNumberOfTriangles(), 50000)
+        self.assertEqual((stats.GetNumberOfFastTrees(), stats.GetNumberOfObjectsUpgraded()), (1, 0))
+        self.assertIn("1 objects traced with the fast tree", p.GetLastFrameReport())
+        self.assertGreater(stats.GetBuildCPUTime(), 0.0)
+        first = grab(window, rerender=False)
+        deadline = time.time() + 60.0
+        while True:
+            time.sleep(0.05)
+            window.Render()  # nothing changed: the swap is the only thing that can happen
+            if stats.GetNumberOfObjectsUpgraded():
+                break
+            self.assertEqual(stats.GetNumberOfFastTrees(), 1)
+            self.assertLess(time.time(), deadline, "the SAH tree was never swapped in")
+        self.assertEqual(stats.GetNumberOfObjectsUpgraded(), 1)
+        self.assertEqual(stats.GetNumberOfFastTrees(), 0)
+        self.assertEqual(stats.GetNumberOfObjectsRebuilt(), 0)
+        self.assertIn("1 upgraded to the SAH tree", p.GetLastFrameReport())
+        self.assertTrue((grab(window, rerender=False) == first).all())
+        window.Render()
+        self.assertEqual((stats.GetNumberOfFastTrees(), stats.GetNumberOfObjectsUpgraded()), (0, 0))
+
     def testPicking(self):
         """Hardware picking (vtkPropPicker -> vtkHardwareSelector) still works: the pass lets OpenGL render the
         selection passes."""
