@@ -7,6 +7,8 @@
 #include <mutex>
 #include <thread>
 #ifdef __linux__
+#include <pthread.h>
+#include <sched.h>
 #include <sys/resource.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -44,10 +46,6 @@ struct Scene::Upgrade {
   std::thread thread;
 
   void run(const std::vector<Object>& objects, const std::function<void()>& hook) {
-#ifdef __linux__
-    // Below the frame's threads: the build takes the time between frames, not a frame's cores
-    setpriority(PRIO_PROCESS, id_t(syscall(SYS_gettid)), 10);
-#endif
     std::vector<std::vector<Bounds3>> boxes(items.size());
     std::vector<std::vector<Vec3>> centroids(items.size());
     for (std::size_t i = 0; i < items.size(); ++i)
@@ -57,6 +55,13 @@ struct Scene::Upgrade {
       inputsRead = true;
     }
     read.notify_all();
+    // The build itself runs only on cores nothing else wants (the time between frames, not a frame's cores);
+    // the read above ran at normal priority, as a scene change may be waiting for it
+#ifdef __linux__
+    sched_param idle{};
+    if (pthread_setschedparam(pthread_self(), SCHED_IDLE, &idle) != 0)
+      setpriority(PRIO_PROCESS, id_t(syscall(SYS_gettid)), 19);
+#endif
     BvhBuildOptions opt;
     opt.quality = BvhBuildQuality::Sah;
     opt.threads = 1;

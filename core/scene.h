@@ -105,9 +105,10 @@ class Scene {
   /// Background upgrade (default off): commit() builds new and replaced geometry of at least kUpgradeMin
   /// primitives with the fast builder, whatever setReplacedBuildQuality says, so the frame that shows it waits for
   /// the shortest build; startUpgrades(), called once that frame is traced, builds the SAH tree of every such
-  /// object on a background thread (one build thread, lower scheduling priority); the first commit() after it
-  /// finished swaps the SAH trees in (CommitStats::objectsUpgraded). No commit waits for a build: until the swap,
-  /// frames trace the complete fast tree. Traversal is exact with either tree: images do not change.
+  /// object on a background thread (one build thread at idle scheduling priority: it uses only cores nothing
+  /// else wants); the first commit() after it finished swaps the SAH trees in (CommitStats::objectsUpgraded). No
+  /// commit waits for a build: until the swap, frames trace the complete fast tree. Traversal is exact with either
+  /// tree: images do not change.
   void setBackgroundUpgrade(bool on) { backgroundUpgrade_ = on; }
   bool backgroundUpgrade() const { return backgroundUpgrade_; }
   /// Objects smaller than this get the SAH build at once (it takes a few milliseconds) with the background upgrade.
