@@ -59,7 +59,7 @@ struct Scene::Upgrade {
     // the read above ran at normal priority, as a scene change may be waiting for it
 #ifdef __linux__
     sched_param idle{};
-    if (pthread_setschedparam(pthread_self(), SCHED_IDLE, &idle) != 0)
+    if (!hook && pthread_setschedparam(pthread_self(), SCHED_IDLE, &idle) != 0)
       setpriority(PRIO_PROCESS, id_t(syscall(SYS_gettid)), 19);
 #endif
     BvhBuildOptions opt;
@@ -90,7 +90,15 @@ Scene::UpgradeSlot::~UpgradeSlot() {
   wait();
 }
 void Scene::UpgradeSlot::wait() {
-  if (job && job->thread.joinable()) job->thread.join();
+  if (!job || !job->thread.joinable()) return;
+#ifdef __linux__
+  // Someone waits for it now: back to normal priority, or a busy machine could starve it indefinitely
+  if (!job->finished) {
+    sched_param normal{};
+    pthread_setschedparam(job->thread.native_handle(), SCHED_OTHER, &normal);
+  }
+#endif
+  job->thread.join();
 }
 
 Scene::Scene() = default;

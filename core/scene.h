@@ -120,7 +120,8 @@ class Scene {
   void waitForUpgrades();
   /// A background build is running or finished and not swapped in yet.
   bool upgradePending() const { return upgrade_.job != nullptr; }
-  /// For tests: called on the background thread once its trees are built, before it reports them finished.
+  /// For tests: called on the background thread once its trees are built, before it reports them finished; with
+  /// a hook the build keeps normal priority (a test polling for it on a busy machine would starve an idle one).
   void setUpgradeHookForTesting(std::function<void()> hook) { upgradeHook_ = std::move(hook); }
   /// The object as it stands (geometry in leaf order once committed, BVH, leaf order), e.g. to keep a copy.
   const Object& object(uint32_t object) const { return objects_[object]; }

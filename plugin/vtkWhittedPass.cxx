@@ -283,6 +283,15 @@ void vtkWhittedPass::ReleaseGraphicsResources(vtkWindow* w)
 }
 
 //------------------------------------------------------------------------------
+void vtkWhittedPass::WaitForBackgroundBuilds()
+{
+  for (auto& rs : this->Internals->Scenes)
+  {
+    rs.second->Converter.GetScene().waitForUpgrades();
+  }
+}
+
+//------------------------------------------------------------------------------
 void vtkWhittedPass::Render(const vtkRenderState* s)
 {
   this->NumberOfRenderedProps = 0;
