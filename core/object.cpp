@@ -4,6 +4,33 @@ namespace whitted {
 
 namespace {
 
+/// Leaf order of every primitive after o.bvh was built over the valid primitives `valid` of n (given order), and
+/// leaf-ordered arrays (stored in the given order) put in that order.
+template <typename Shape>
+void applyLeafOrder(Object& o, typename Shape::Geometry& g, const std::vector<uint32_t>& valid, std::size_t n) {
+  // Leaf order of every primitive (only needed when some are left out: otherwise it is the BVH's own order)
+  o.primOrder.clear();
+  if (valid.size() < n) {
+    o.primOrder.reserve(n);
+    for (uint32_t i : o.bvh.primIndices()) o.primOrder.push_back(valid[i]);
+    std::size_t next = 0;  // valid is increasing: the others are the gaps
+    for (uint32_t i = 0; i < n; ++i) {
+      if (next < valid.size() && valid[next] == i)
+        ++next;
+      else
+        o.primOrder.push_back(i);
+    }
+  }
+  if constexpr (Shape::kLeafOrdered) {
+    auto& stored = Shape::leafOrdered(g);
+    std::remove_reference_t<decltype(stored)> leafOrdered(stored.size());
+    const uint32_t* order = o.leafPrims();
+    for (std::size_t k = 0; k < leafOrdered.size(); ++k) leafOrdered[k] = stored[order[k]];
+    stored = std::move(leafOrdered);
+  }
+  o.dirty = false;
+}
+
 template <typename Shape>
 std::size_t rebuildShape(Object& o, typename Shape::Geometry& g, BvhBuildQuality quality) {
   Shape::sanitize(g);
@@ -29,28 +56,8 @@ std::size_t rebuildShape(Object& o, typename Shape::Geometry& g, BvhBuildQuality
   opt.quality = quality;
   o.bvh.build(boxes, centroids, opt);
   o.builtCost = o.bvh.sahCost();
-
-  // Leaf order of every primitive (only needed when some are left out: otherwise it is the BVH's own order)
-  o.primOrder.clear();
-  if (valid.size() < n) {
-    o.primOrder.reserve(n);
-    for (uint32_t i : o.bvh.primIndices()) o.primOrder.push_back(valid[i]);
-    std::size_t next = 0;  // valid is increasing: the others are the gaps
-    for (uint32_t i = 0; i < n; ++i) {
-      if (next < valid.size() && valid[next] == i)
-        ++next;
-      else
-        o.primOrder.push_back(i);
-    }
-  }
-  if constexpr (Shape::kLeafOrdered) {
-    auto& stored = Shape::leafOrdered(g);
-    std::remove_reference_t<decltype(stored)> leafOrdered(stored.size());
-    const uint32_t* order = o.leafPrims();
-    for (std::size_t k = 0; k < leafOrdered.size(); ++k) leafOrdered[k] = stored[order[k]];
-    stored = std::move(leafOrdered);
-  }
-  o.dirty = false;
+  o.builtQuality = quality;
+  applyLeafOrder<Shape>(o, g, valid, n);
   return n - valid.size();
 }
 
@@ -78,6 +85,57 @@ bool refitShape(Object& o, typename Shape::Geometry& g) {
 
 bool Object::refit() {
   return visitShape(*this, [&](auto shape, auto& g) { return refitShape<decltype(shape)>(*this, g); });
+}
+
+void Object::validBoxes(std::vector<Bounds3>& boxes, std::vector<Vec3>& centroids, std::vector<uint32_t>& valid) const {
+  visitShape(*this, [&](auto shape, const auto& g) {
+    using Shape = decltype(shape);
+    // Slots [0, nValid) of the leaf order hold the valid primitives; rank: given index -> index among the valid
+    // ones in given order (the identity when all are valid, the common case: no map then)
+    const std::size_t n = Shape::count(g), nValid = bvh.primIndices().size();
+    const uint32_t* order = leafPrims();
+    std::vector<uint32_t> rank;
+    valid.clear();
+    if (nValid < n) {
+      rank.assign(n, ~0u);
+      for (std::size_t k = 0; k < nValid; ++k) rank[order[k]] = 0;
+      for (uint32_t i = 0; i < n; ++i)
+        if (rank[i] == 0) {
+          rank[i] = uint32_t(valid.size());
+          valid.push_back(i);
+        }
+    } else {
+      valid.resize(n);
+      for (uint32_t i = 0; i < n; ++i) valid[i] = i;
+    }
+    boxes.resize(nValid);
+    centroids.resize(nValid);
+    Bounds3 box;
+    for (uint32_t k = 0; k < nValid; ++k) {
+      Shape::bounds(g, Shape::kLeafOrdered ? k : order[k], box);  // valid: it was when built
+      const uint32_t j = rank.empty() ? order[k] : rank[order[k]];
+      boxes[j] = box;
+      centroids[j] = box.center();
+    }
+  });
+}
+
+void Object::adoptTree(Bvh tree, const std::vector<uint32_t>& valid, BvhBuildQuality quality) {
+  visitShape(*this, [&](auto shape, auto& g) {
+    using Shape = decltype(shape);
+    if constexpr (Shape::kLeafOrdered) {
+      // Leaf-ordered arrays back to their given order, then into the new tree's
+      auto& stored = Shape::leafOrdered(g);
+      std::remove_reference_t<decltype(stored)> given(stored.size());
+      const uint32_t* order = leafPrims();
+      for (std::size_t k = 0; k < stored.size(); ++k) given[order[k]] = stored[k];
+      stored = std::move(given);
+    }
+    bvh = std::move(tree);
+    builtCost = bvh.sahCost();
+    builtQuality = quality;
+    applyLeafOrder<Shape>(*this, g, valid, Shape::count(g));
+  });
 }
 
 void Object::markForRebuild() {

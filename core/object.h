@@ -27,6 +27,11 @@ struct Object {
   bool alive = true;
   /// The BVH's SAH cost (Bvh::sahCost) when it was last built; refits are measured against it.
   double builtCost = 0.0;
+  /// The builder the BVH came from (a refit keeps it). Scene upgrades Fast trees to SAH ones in the background.
+  BvhBuildQuality builtQuality = BvhBuildQuality::Sah;
+  /// Which tree the object holds: Scene renews it at every rebuild and refit, so a background build started from
+  /// an earlier tree is recognised as stale and dropped. 0 before the first build.
+  uint64_t treeVersion = 0;
   /// A refitted BVH whose SAH cost exceeds this many times builtCost is rebuilt (with the fast builder): the
   /// refit keeps the tree's topology, so primitives that moved apart leave ever larger, overlapping boxes and the
   /// trace slows down by about this ratio; a fast rebuild costs about one frame's worth of tracing at that point.
@@ -39,6 +44,12 @@ struct Object {
   /// Clamps the geometry's colours, builds the BVH (with the given builder) over the valid primitives (non-finite and degenerate ones are
   /// left out) and puts leaf-ordered arrays in leaf order. Returns the number of invalid primitives.
   std::size_t rebuild(BvhBuildQuality quality);
+  /// For a background rebuild of this committed object: the boxes and centroids of its valid primitives in their
+  /// given order and those primitives' indices, exactly what rebuild() builds from. Only reads the object.
+  void validBoxes(std::vector<Bounds3>& boxes, std::vector<Vec3>& centroids, std::vector<uint32_t>& valid) const;
+  /// Swaps in a tree built elsewhere from validBoxes() of this committed object (same geometry): leaf-ordered
+  /// arrays follow its leaf order, and the object ends as rebuild(quality) would have left it.
+  void adoptTree(Bvh tree, const std::vector<uint32_t>& valid, BvhBuildQuality quality);
   /// True if g (of shape type G) has bit-for-bit the geometry this committed object was built from (see
   /// Shape::sameGeometry; leaf-ordered arrays are compared through the leaf order). Cost: one pass over it.
   template <typename G>

@@ -1,7 +1,18 @@
 #include "scene.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+#ifdef __linux__
+#include <pthread.h>
+#include <sched.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+#endif
 
 namespace whitted {
 
@@ -16,19 +27,142 @@ bool isIdentity(const Mat4& m) {
 
 }  // namespace
 
+// Background upgrade ----------------------------------------------------------------------------------------
+
+/// One background build: the SAH trees of the objects that had a fast tree when it started. The thread reads those
+/// objects first (inputsRead: until then nothing may change objects_), then builds from its own copies.
+struct Scene::Upgrade {
+  struct Item {
+    uint32_t object = 0;
+    uint64_t version = 0;  ///< Object::treeVersion it was started from: swapped in only if still current.
+    std::vector<uint32_t> valid;
+    Bvh tree;
+  };
+  std::vector<Item> items;
+  std::mutex mutex;
+  std::condition_variable read;
+  bool inputsRead = false;  // guarded by mutex
+  std::atomic<bool> finished{false};
+  std::thread thread;
+
+  void run(const std::vector<Object>& objects, const std::function<void()>& hook) {
+    std::vector<std::vector<Bounds3>> boxes(items.size());
+    std::vector<std::vector<Vec3>> centroids(items.size());
+    for (std::size_t i = 0; i < items.size(); ++i)
+      objects[items[i].object].validBoxes(boxes[i], centroids[i], items[i].valid);
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      inputsRead = true;
+    }
+    read.notify_all();
+    // The build itself runs only on cores nothing else wants (the time between frames, not a frame's cores);
+    // the read above ran at normal priority, as a scene change may be waiting for it
+#ifdef __linux__
+    sched_param idle{};
+    if (!hook && pthread_setschedparam(pthread_self(), SCHED_IDLE, &idle) != 0)
+      setpriority(PRIO_PROCESS, id_t(syscall(SYS_gettid)), 19);
+#endif
+    BvhBuildOptions opt;
+    opt.quality = BvhBuildQuality::Sah;
+    opt.threads = 1;
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      items[i].tree.build(boxes[i], centroids[i], opt);
+      boxes[i] = {};
+      centroids[i] = {};
+    }
+    if (hook) hook();
+    finished = true;
+  }
+};
+
+Scene::UpgradeSlot::UpgradeSlot() = default;
+Scene::UpgradeSlot::UpgradeSlot(UpgradeSlot&& o) noexcept {
+  o.wait();
+  job = std::move(o.job);
+}
+Scene::UpgradeSlot& Scene::UpgradeSlot::operator=(UpgradeSlot&& o) noexcept {
+  wait();
+  o.wait();
+  job = std::move(o.job);
+  return *this;
+}
+Scene::UpgradeSlot::~UpgradeSlot() {
+  wait();
+}
+void Scene::UpgradeSlot::wait() {
+  if (!job || !job->thread.joinable()) return;
+#ifdef __linux__
+  // Someone waits for it now: back to normal priority, or a busy machine could starve it indefinitely
+  if (!job->finished) {
+    sched_param normal{};
+    pthread_setschedparam(job->thread.native_handle(), SCHED_OTHER, &normal);
+  }
+#endif
+  job->thread.join();
+}
+
+Scene::Scene() = default;
+Scene::~Scene() {
+  waitForUpgrades();  // before any member goes: the build may still read objects_
+}
+Scene::Scene(Scene&&) noexcept = default;
+Scene& Scene::operator=(Scene&&) noexcept = default;
+
+void Scene::settleUpgrade() {
+  Upgrade* u = upgrade_.job.get();
+  if (!u) return;
+  std::unique_lock<std::mutex> lock(u->mutex);
+  u->read.wait(lock, [u] { return u->inputsRead; });
+}
+
+void Scene::startUpgrades() {
+  if (!backgroundUpgrade_ || upgrade_.job) return;
+  auto job = std::make_unique<Upgrade>();
+  for (uint32_t i = 0; i < objects_.size(); ++i) {
+    const Object& o = objects_[i];
+    if (o.alive && !o.dirty && !o.refitPending && o.builtQuality == BvhBuildQuality::Fast)
+      job->items.push_back({i, o.treeVersion, {}, {}});
+  }
+  if (job->items.empty()) return;
+  Upgrade* u = job.get();
+  u->thread = std::thread([u, this, hook = upgradeHook_] { u->run(objects_, hook); });
+  upgrade_.job = std::move(job);
+}
+
+void Scene::waitForUpgrades() {
+  upgrade_.wait();
+}
+
+void Scene::adoptUpgrades(CommitStats& st) {
+  if (!upgrade_.job || !upgrade_.job->finished) return;  // never waits: frames trace the fast tree until done
+  upgrade_.wait();                                       // the thread has finished: this only joins it
+  for (Upgrade::Item& item : upgrade_.job->items) {
+    if (item.object >= objects_.size()) continue;
+    Object& o = objects_[item.object];
+    if (!o.alive || o.dirty || o.refitPending || o.treeVersion != item.version) continue;  // changed since
+    o.adoptTree(std::move(item.tree), item.valid, BvhBuildQuality::Sah);
+    o.treeVersion = ++treeCounter_;
+    ++st.objectsUpgraded;
+  }
+  upgrade_.job.reset();
+}
+
 // Objects ---------------------------------------------------------------------------------------------------
 
 uint32_t Scene::addMesh(TriangleMesh mesh) {
+  settleUpgrade();
   objects_.emplace_back();
   setMesh(uint32_t(objects_.size() - 1), std::move(mesh));
   return uint32_t(objects_.size() - 1);
 }
 uint32_t Scene::addSpheres(SphereSet s) {
+  settleUpgrade();
   objects_.emplace_back();
   setSpheres(uint32_t(objects_.size() - 1), std::move(s));
   return uint32_t(objects_.size() - 1);
 }
 uint32_t Scene::addTubes(TubeSet c) {
+  settleUpgrade();
   objects_.emplace_back();
   setTubes(uint32_t(objects_.size() - 1), std::move(c));
   return uint32_t(objects_.size() - 1);
@@ -36,6 +170,7 @@ uint32_t Scene::addTubes(TubeSet c) {
 
 template <typename G>
 void Scene::setGeometry(uint32_t id, G&& g) {
+  settleUpgrade();
   Object& o = objects_[id];
   const bool replaced = o.replaced || (o.alive && !o.dirty);  // it had been built
   o = Object{};
@@ -55,6 +190,7 @@ void Scene::setTubes(uint32_t id, TubeSet c) {
 
 template <typename G>
 bool Scene::updateGeometry(uint32_t id, G&& g) {
+  settleUpgrade();
   Object& o = objects_[id];
   if (o.sameGeometry(g)) {
     o.replaceAttributes(std::forward<G>(g));  // the BVH, leaf order and bounds stay valid
@@ -80,6 +216,7 @@ bool Scene::updateTubes(uint32_t id, TubeSet c) {
   return updateGeometry(id, std::move(c));
 }
 void Scene::removeObject(uint32_t id) {
+  settleUpgrade();
   objects_[id] = Object{};
   objects_[id].alive = false;
   objects_[id].dirty = false;
@@ -87,12 +224,14 @@ void Scene::removeObject(uint32_t id) {
 }
 
 Object Scene::takeObject(uint32_t id) {
+  settleUpgrade();
   Object taken = std::move(objects_[id]);
   removeObject(id);
   objects_[id].replaced = true;  // the id's next geometry is a replacement (fast builder)
   return taken;
 }
 void Scene::restoreObject(uint32_t id, Object o) {
+  settleUpgrade();
   objects_[id] = std::move(o);
   topDirty_ = true;
 }
@@ -177,6 +316,10 @@ void Scene::forEachVisibleInstance(Fn&& fn) const {
 CommitStats Scene::commit() {
   CommitStats st;
   auto start = std::chrono::steady_clock::now();
+  // A commit that rebuilds or refits nothing never waits for a background build reading the objects
+  if (std::any_of(objects_.begin(), objects_.end(), [](const Object& o) { return o.dirty || o.refitPending; }))
+    settleUpgrade();
+  adoptUpgrades(st);
   buildObjects(st);
   if (topDirty_) buildTopLevel(st);
   st.secondsBuild = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -190,6 +333,7 @@ void Scene::buildObjects(CommitStats& st) {
     // Moved points on the same connectivity: refit; a primitive that became invalid falls back to a rebuild
     if (o.alive && o.refitPending && !o.dirty) {
       o.refitPending = false;
+      o.treeVersion = ++treeCounter_;
       if (o.refit()) {
         // Keep the refitted tree unless it traces much slower than the one built (SAH cost)
         const double ratio = o.refitCostRatio();
@@ -205,7 +349,11 @@ void Scene::buildObjects(CommitStats& st) {
     }
     // New or replaced geometry: rebuilt (replaced: with the replaced-geometry builder, fast by default)
     if (o.alive && o.dirty) {
-      const bool fast = o.replaced && replacedQuality_ == BvhBuildQuality::Fast;
+      const bool fast =
+          backgroundUpgrade_
+              ? visitShape(o, [](auto shape, const auto& g) { return decltype(shape)::count(g) >= kUpgradeMin; })
+              : o.replaced && replacedQuality_ == BvhBuildQuality::Fast;
+      o.treeVersion = ++treeCounter_;
       st.objectsFastBuilt += fast;
       st.invalidPrimitives += o.rebuild(fast ? BvhBuildQuality::Fast : BvhBuildQuality::Sah);
       ++st.objectsRebuilt;
@@ -321,6 +469,7 @@ SceneStats Scene::stats() const {
       s.geometryBytes += Shape::bytes(g);
     });
     s.bvhNodes += o.bvh.nodes().size();
+    s.fastTrees += o.builtQuality == BvhBuildQuality::Fast;
     s.bvhBytes += o.bvh.memoryBytes() + o.primOrder.capacity() * sizeof(uint32_t);
   }
   s.bvhNodes += top_.nodes().size();

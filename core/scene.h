@@ -15,6 +15,8 @@
 #include "shapes.h"
 
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -48,6 +50,9 @@ struct CommitStats {
   int objectsRefitRejected = 0;
   /// Largest SAH cost ratio (refitted tree / tree when built) over the objects refit in this commit; 0 if none.
   double refitCostRatio = 0.0;
+  /// Objects whose fast tree was replaced in this commit by the SAH tree a background build finished (see
+  /// Scene::setBackgroundUpgrade; counted in no other field).
+  int objectsUpgraded = 0;
   bool topLevelRebuilt = false;
   double secondsBuild = 0.0;          ///< Wall time of all BVH builds in this commit.
   std::size_t invalidPrimitives = 0;  ///< Primitives skipped (non-finite or degenerate) in rebuilt objects.
@@ -60,12 +65,20 @@ struct SceneStats {
   std::size_t triangles = 0, spheres = 0, tubes = 0, objects = 0, instances = 0;
   std::size_t tracedInstances = 0;  ///< Visible instances in the top-level BVH (instances counts hidden ones too).
   std::size_t bvhNodes = 0, bvhBytes = 0, geometryBytes = 0;
+  /// Objects traced with a fast (Morton) tree: with the background upgrade, those whose SAH tree is not in yet.
+  std::size_t fastTrees = 0;
   std::size_t textures = 0;      ///< Textures holding texels (colour maps included).
   std::size_t textureBytes = 0;  ///< Memory of their texels, bytes (allocated capacity).
 };
 
 class Scene {
  public:
+  Scene();
+  ~Scene();  ///< Waits for a running background build.
+  /// Moves wait for the background builds of both scenes first (a running one reads its scene's objects).
+  Scene(Scene&&) noexcept;
+  Scene& operator=(Scene&&) noexcept;
+
   // Objects -----------------------------------------------------------------------------------------------
   /// Adds geometry; returns its object id. The data is taken by value (move it in).
   uint32_t addMesh(TriangleMesh mesh);
@@ -89,6 +102,27 @@ class Scene {
   /// edited geometry rebuild in about half the SAH build's time, for a tree that traces somewhat slower) or Sah.
   /// New geometry always gets the SAH build.
   void setReplacedBuildQuality(BvhBuildQuality quality) { replacedQuality_ = quality; }
+  /// Background upgrade (default off): commit() builds new and replaced geometry of at least kUpgradeMin
+  /// primitives with the fast builder, whatever setReplacedBuildQuality says, so the frame that shows it waits for
+  /// the shortest build; startUpgrades(), called once that frame is traced, builds the SAH tree of every such
+  /// object on a background thread (one build thread at idle scheduling priority: it uses only cores nothing
+  /// else wants); the first commit() after it finished swaps the SAH trees in (CommitStats::objectsUpgraded). No
+  /// commit waits for a build: until the swap, frames trace the complete fast tree. Traversal is exact with either
+  /// tree: images do not change.
+  void setBackgroundUpgrade(bool on) { backgroundUpgrade_ = on; }
+  bool backgroundUpgrade() const { return backgroundUpgrade_; }
+  /// Objects smaller than this get the SAH build at once (it takes a few milliseconds) with the background upgrade.
+  static constexpr std::size_t kUpgradeMin = 50000;
+  /// Starts the background SAH build of the objects traced with a fast tree, unless one is running or the upgrade
+  /// is off. Call it after the frame (the build then uses the time between frames, not the frame's cores).
+  void startUpgrades();
+  /// Waits until the running background build (if any) has finished; the next commit() swaps it in.
+  void waitForUpgrades();
+  /// A background build is running or finished and not swapped in yet.
+  bool upgradePending() const { return upgrade_.job != nullptr; }
+  /// For tests: called on the background thread once its trees are built, before it reports them finished; with
+  /// a hook the build keeps normal priority (a test polling for it on a busy machine would starve an idle one).
+  void setUpgradeHookForTesting(std::function<void()> hook) { upgradeHook_ = std::move(hook); }
   /// The object as it stands (geometry in leaf order once committed, BVH, leaf order), e.g. to keep a copy.
   const Object& object(uint32_t object) const { return objects_[object]; }
   /// Moves an object out of the scene whole (geometry, BVH, leaf order: a committed one stays committed), leaving
@@ -219,12 +253,27 @@ class Scene {
   template <typename Fn>
   void forEachVisibleInstance(Fn&& fn) const;
 
+  struct Upgrade;  ///< A background SAH build (scene.cpp).
+  /// Its handle: moving it first waits for the builds on both sides (declared first among the members, so a
+  /// moved scene's objects move only after that).
+  struct UpgradeSlot {
+    std::unique_ptr<Upgrade> job;
+    UpgradeSlot();
+    UpgradeSlot(UpgradeSlot&& o) noexcept;
+    UpgradeSlot& operator=(UpgradeSlot&& o) noexcept;
+    ~UpgradeSlot();
+    void wait();  ///< Joins the build's thread if it runs.
+  };
+  void settleUpgrade();                 ///< Before objects_ changes: waits until a running build has read it.
+  void adoptUpgrades(CommitStats& st);  ///< Swaps in a finished background build's trees that are still current.
+
   // The steps of commit(), in order
   void buildObjects(CommitStats& st);    ///< Refit or rebuild the objects that changed.
   void buildTopLevel(CommitStats& st);   ///< Tree over the visible instances' world boxes.
   void sanitizeInputs(CommitStats& st);  ///< Clamp what shading reads, so no input can produce a NaN pixel.
   void updateFeaturesAndBounds();        ///< Features used and the radiance bounds of the traced instances.
 
+  UpgradeSlot upgrade_;  // first: see UpgradeSlot
   std::vector<Object> objects_;
   std::vector<Instance> instances_;
   std::vector<Material> materials_;
@@ -236,6 +285,9 @@ class Scene {
   std::vector<uint32_t> topInstances_;  ///< Top-level leaf slot -> instance index.
   bool topDirty_ = true;
   BvhBuildQuality replacedQuality_ = BvhBuildQuality::Fast;
+  bool backgroundUpgrade_ = false;
+  uint64_t treeCounter_ = 0;  ///< Last Object::treeVersion given.
+  std::function<void()> upgradeHook_;
   Features features_;
   Bounds3 bounds_;
   float localBound_ = 1.0f;

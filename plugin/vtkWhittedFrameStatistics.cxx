@@ -9,6 +9,8 @@ void vtkWhittedFrameStatistics::Reset()
 {
   this->ConversionTime = this->BuildTime = this->TraceTime = 0.0;
   this->CompositeTime = this->TotalTime = 0.0;
+  this->ConversionCPUTime = this->BuildCPUTime = this->TraceCPUTime = this->CompositeCPUTime = 0.0;
+  this->NumberOfFastTrees = this->NumberOfObjectsUpgraded = 0;
   this->PrimaryRays = this->ShadowRays = this->ReflectionRays = this->RefractionRays = 0;
   this->RaysSavedByThreshold = this->RaysSavedByDepth = 0;
   this->NumberOfTriangles = this->NumberOfSpheres = this->NumberOfTubes = 0;
@@ -61,6 +63,12 @@ void vtkWhittedFrameStatistics::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfGeometriesConverted: " << this->NumberOfGeometriesConverted << "\n";
   os << indent << "NumberOfObjectsRebuilt: " << this->NumberOfObjectsRebuilt << "\n";
   os << indent << "NumberOfObjectsRefit: " << this->NumberOfObjectsRefit << "\n";
+  os << indent << "NumberOfFastTrees: " << this->NumberOfFastTrees << "\n";
+  os << indent << "NumberOfObjectsUpgraded: " << this->NumberOfObjectsUpgraded << "\n";
+  os << indent << "ConversionCPUTime: " << this->ConversionCPUTime << "\n";
+  os << indent << "BuildCPUTime: " << this->BuildCPUTime << "\n";
+  os << indent << "TraceCPUTime: " << this->TraceCPUTime << "\n";
+  os << indent << "CompositeCPUTime: " << this->CompositeCPUTime << "\n";
   os << indent << "TopLevelRebuilt: " << this->TopLevelRebuilt << "\n";
   os << indent << "NumberOfTracedActors: " << this->NumberOfTracedActors << "\n";
   os << indent << "NumberOfOpenGLProps: " << this->NumberOfOpenGLProps << "\n";

@@ -41,6 +41,29 @@ public:
 
   ///@{
   /**
+   * Process CPU seconds (every thread of the process, the tracer's and others') during the
+   * conversion, the BVH builds, the trace and the compositing.
+   */
+  vtkGetMacro(ConversionCPUTime, double);
+  vtkGetMacro(BuildCPUTime, double);
+  vtkGetMacro(TraceCPUTime, double);
+  vtkGetMacro(CompositeCPUTime, double);
+  ///@}
+
+  ///@{
+  /**
+   * Which trees the frame traced: new and replaced large geometry is built with the fast (Morton)
+   * builder for the frame that shows it, and its SAH tree is built in the background after that
+   * frame and swapped in by a later frame once finished (never waited for). NumberOfFastTrees:
+   * objects traced with a fast tree in this frame; NumberOfObjectsUpgraded: objects whose SAH tree
+   * was swapped in at the start of this frame. Images do not depend on the tree.
+   */
+  vtkGetMacro(NumberOfFastTrees, int);
+  vtkGetMacro(NumberOfObjectsUpgraded, int);
+  ///@}
+
+  ///@{
+  /**
    * Rays by kind, and secondary rays not traced because their contribution was below
    * ContributionThreshold or MaxDepth was reached.
    */
@@ -173,6 +196,12 @@ protected:
   double TraceTime = 0.0;
   double CompositeTime = 0.0;
   double TotalTime = 0.0;
+  double ConversionCPUTime = 0.0;
+  double BuildCPUTime = 0.0;
+  double TraceCPUTime = 0.0;
+  double CompositeCPUTime = 0.0;
+  int NumberOfFastTrees = 0;
+  int NumberOfObjectsUpgraded = 0;
   vtkTypeUInt64 PrimaryRays = 0;
   vtkTypeUInt64 ShadowRays = 0;
   vtkTypeUInt64 ReflectionRays = 0;

@@ -44,12 +44,19 @@
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <exception>
 #include <map>
 #include <memory>
 
 namespace
 {
+// Process CPU seconds (every thread's) since c0 = std::clock()
+double CPUSecondsSince(std::clock_t c0)
+{
+  return static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+}
+
 double SecondsSince(std::chrono::steady_clock::time_point t)
 {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -164,6 +171,8 @@ public:
     whitted::FrameStats Trace;
     double ConversionTime = 0.0;
     double CompositeTime = 0.0;
+    // Process CPU seconds (all threads) of conversion, build, trace and composite
+    double CPUTime[4] = { 0.0, 0.0, 0.0, 0.0 };
   };
 
   // The pass's settings for this frame as the tracer's (interactive frames at reduced quality)
@@ -275,6 +284,15 @@ void vtkWhittedPass::ReleaseGraphicsResources(vtkWindow* w)
 }
 
 //------------------------------------------------------------------------------
+void vtkWhittedPass::WaitForBackgroundBuilds()
+{
+  for (auto& rs : this->Internals->Scenes)
+  {
+    rs.second->Converter.GetScene().waitForUpgrades();
+  }
+}
+
+//------------------------------------------------------------------------------
 void vtkWhittedPass::Render(const vtkRenderState* s)
 {
   this->NumberOfRenderedProps = 0;
@@ -327,11 +345,17 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
     // Scene conversion (cached)
     converter = &in->ConverterFor(ren);
     converter->SetTimeCacheLimit(static_cast<std::size_t>(this->TimeCacheMemory) << 20);
+    std::clock_t cpu = std::clock();
     converter->Update(ren, s->GetPropArray(), s->GetPropArrayCount(), this, r.Conversion);
     r.ConversionTime = SecondsSince(start);
+    r.CPUTime[0] = CPUSecondsSince(cpu);
 
-    // BVH builds of what changed
+    // BVH builds of what changed: new and replaced large geometry with the fast builder, upgraded
+    // to the SAH tree in the background after the frame (Scene::setBackgroundUpgrade)
+    cpu = std::clock();
+    converter->GetScene().setBackgroundUpgrade(true);
     r.Commit = converter->GetScene().commit();
+    r.CPUTime[1] = CPUSecondsSince(cpu);
 
     // Trace; rays from the inverse of VTK's composite projection (tiles, IceT viewports)
     vtkCamera* cam = ren->GetActiveCamera();
@@ -357,8 +381,10 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
     }
     // Edge widths in traced pixels: interactive frames (fewer, larger pixels) keep their edges
     SetPixelFootprint(settings.integrator, cam, ren->GetTiledAspectRatio(), traceHeight);
+    cpu = std::clock();
     r.Trace =
       in->Trace(this, win, converter->GetScene(), camera, settings, traceWidth, traceHeight);
+    r.CPUTime[2] = CPUSecondsSince(cpu);
   }
   catch (const std::exception& e)
   {
@@ -373,8 +399,12 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
 
   // Composite, then VTK's OpenGL stages for the props left to it (overlays last)
   const auto compositeStart = std::chrono::steady_clock::now();
+  const std::clock_t compositeCPU = std::clock();
   in->Rendered = in->Composite(s, win, r.Conversion, viewport);
   r.CompositeTime = SecondsSince(compositeStart);
+  r.CPUTime[3] = CPUSecondsSince(compositeCPU);
+  // The frame is drawn: fast trees get their SAH build now, between frames
+  converter->GetScene().startUpgrades();
 
   in->RecordStatistics(
     r, converter->GetScene().stats(), SecondsSince(start), this->LastFrameReport);
@@ -581,6 +611,12 @@ void vtkWhittedPassInternals::RecordStatistics(
   st->NumberOfGeometriesConverted = r.Conversion.GeometriesConverted;
   st->NumberOfObjectsRebuilt = r.Commit.objectsRebuilt;
   st->NumberOfObjectsRefit = r.Commit.objectsRefit;
+  st->NumberOfObjectsUpgraded = r.Commit.objectsUpgraded;
+  st->NumberOfFastTrees = static_cast<int>(scene.fastTrees);
+  st->ConversionCPUTime = r.CPUTime[0];
+  st->BuildCPUTime = r.CPUTime[1];
+  st->TraceCPUTime = r.CPUTime[2];
+  st->CompositeCPUTime = r.CPUTime[3];
   st->NumberOfRefitsRejected = r.Commit.objectsRefitRejected;
   st->RefitCostRatio = r.Commit.refitCostRatio;
   st->NumberOfTimeCacheHits = r.Conversion.TimeCacheHits;
@@ -617,6 +653,14 @@ void vtkWhittedPassInternals::RecordStatistics(
     "converted), %d props drawn by OpenGL\n",
     r.CompositeTime * 1e3, totalTime * 1e3, r.Conversion.TracedActors,
     r.Conversion.GeometriesConverted, st->NumberOfOpenGLProps);
+  report += line;
+  std::snprintf(line, sizeof line,
+    "  CPU time         conversion %.2f ms, build %.2f ms, trace %.2f ms, composite %.2f ms "
+    "(process, all threads)\n"
+    "  trees            %d objects traced with the fast tree, %d upgraded to the SAH tree in this "
+    "frame\n",
+    r.CPUTime[0] * 1e3, r.CPUTime[1] * 1e3, r.CPUTime[2] * 1e3, r.CPUTime[3] * 1e3,
+    st->NumberOfFastTrees, st->NumberOfObjectsUpgraded);
   report += line;
   std::snprintf(line, sizeof line,
     "  time cache       %d hits; holds %d geometries, %.1f MB (limit %d MB)\n",

@@ -256,6 +256,14 @@ public:
   vtkWhittedFrameStatistics* GetLastFrameStatistics();
 
   /**
+   * Waits until the background SAH builds of new geometry have finished (see
+   * vtkWhittedFrameStatistics::GetNumberOfFastTrees); the next frame swaps them in. Frames never
+   * wait for them on their own: the builds use only idle cores. For scripts and benchmarks that
+   * want the final tree.
+   */
+  void WaitForBackgroundBuilds();
+
+  /**
    * Copies the tracer's image of the last frame (before compositing): colour as 4-component linear
    * RGBA floats as the tracer wrote them, and OpenGL window depth (1 component, 1 where nothing
    * was hit), rows bottom to top, GetLastFrameStatistics()->GetSize() pixels. Either array may be

@@ -95,6 +95,42 @@ class TestWhittedPythonPass(Testing.vtkTest):
         window.Render()
         self.assertEqual(rebuilt(), (0, 0, True))
 
+    def testFastTreeIsUpgradedBetweenFrames(self):
+        """Large new geometry is traced with the fast (Morton) tree in the frame that shows it; its SAH tree, built
+        in the background after that frame, is swapped in by the first frame after it finished (the next one, or
+        the one after WaitForBackgroundBuilds), and the image stays the same (the tree changes only speed)."""
+        from whitted_imagetest import grab
+        renderer, window = make_window()
+        sphere = vtkSphereSource()
+        sphere.SetThetaResolution(300)
+        sphere.SetPhiResolution(200)
+        mapper = vtkPolyDataMapper()
+        mapper.SetInputConnection(sphere.GetOutputPort())
+        actor = vtkActor()
+        actor.SetMapper(mapper)
+        renderer.AddActor(actor)
+        p = vtkWhittedPass()
+        renderer.SetPass(p)
+        stats = p.GetLastFrameStatistics()
+        window.Render()
+        self.assertGreaterEqual(stats.GetNumberOfTriangles(), 50000)
+        self.assertEqual((stats.GetNumberOfFastTrees(), stats.GetNumberOfObjectsUpgraded()), (1, 0))
+        self.assertIn("1 objects traced with the fast tree", p.GetLastFrameReport())
+        self.assertGreater(stats.GetBuildCPUTime(), 0.0)
+        first = grab(window, rerender=False)
+        window.Render()  # nothing changed; the build is either still running or just finished
+        self.assertIn((stats.GetNumberOfFastTrees(), stats.GetNumberOfObjectsUpgraded()), [(1, 0), (0, 1)])
+        if stats.GetNumberOfFastTrees():
+            p.WaitForBackgroundBuilds()
+            window.Render()
+        self.assertEqual(stats.GetNumberOfObjectsUpgraded(), 1)
+        self.assertEqual(stats.GetNumberOfFastTrees(), 0)
+        self.assertEqual(stats.GetNumberOfObjectsRebuilt(), 0)
+        self.assertIn("1 upgraded to the SAH tree", p.GetLastFrameReport())
+        self.assertTrue((grab(window, rerender=False) == first).all())
+        window.Render()
+        self.assertEqual((stats.GetNumberOfFastTrees(), stats.GetNumberOfObjectsUpgraded()), (0, 0))
+
     def testPicking(self):
         """Hardware picking (vtkPropPicker -> vtkHardwareSelector) still works: the pass lets OpenGL render the
         selection passes."""

@@ -5,11 +5,13 @@ import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 
-def grab(window):
-    """The window's back buffer as a float array of RGB in 0..255, rows bottom to top."""
+def grab(window, rerender=True):
+    """The window's back buffer as a float array of RGB in 0..255, rows bottom to top; rerender=False reads the
+    last frame as it is (no new frame)."""
     f = vtkWindowToImageFilter()
     f.SetInput(window)
     f.ReadFrontBufferOff()
+    f.SetShouldRerender(rerender)
     f.Update()
     image = f.GetOutput()
     w, h, _ = image.GetDimensions()
