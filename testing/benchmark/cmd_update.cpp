@@ -38,23 +38,9 @@ int cmdUpdate(const Args& a) {
     glyphObjects.push_back(o);
     glyphInstances.push_back(bs.scene.addInstance(o, glm::translate(Mat4(1.0), c), gmat));
   }
-  // Remember what the adapter would have to hand over again without caching (object by object: a Scene is not
-  // copyable, a copy could race its background build)
-  Scene original;
-  for (uint32_t o = 0; o < bs.scene.objectCount(); ++o) {
-    switch (bs.scene.objectType(o)) {
-      case GeometryType::Triangles:
-        original.addMesh(TriangleMesh(bs.scene.mesh(o)));
-        break;
-      case GeometryType::Spheres:
-        original.addSpheres(SphereSet(bs.scene.spheres(o)));
-        break;
-      case GeometryType::Tubes:
-        original.addTubes(TubeSet(bs.scene.tubes(o)));
-        break;
-    }
-  }
-  auto resetObject = [&](uint32_t o) { setObjectFrom(bs.scene, o, original); };
+  // What the adapter would hand over again without caching: the object's own geometry, given anew (as
+  // cmd_build does; Scene::mesh etc. return it in the order given)
+  auto resetObject = [&](uint32_t o) { setObjectFrom(bs.scene, o, bs.scene); };
 
   double tc0 = now();
   bs.scene.commit();
