@@ -69,12 +69,6 @@ template <typename T>
 inline T nextDown(T f) {
   return -nextUp(-f);
 }
-inline float nextFloatUp(float f) {
-  return nextUp(f);
-}
-inline float nextFloatDown(float f) {
-  return nextDown(f);
-}
 /// x rounded to the nearest float, returned as a double. Through SSE2 intrinsics on purpose: GCC 12's vectorizer
 /// (at -O2, and at our -O3 in some loop shapes) folds double(float(x)) back to x in loops over glm vectors, so the
 /// plain casts can silently not round at all (floatBelow/floatAbove stay conservative under that fold: they step).
@@ -87,11 +81,11 @@ inline double roundToFloat(double x) {
 /// beyond float range give +-FLT_MAX or +-inf on the conservative side.
 inline float floatBelow(double x) {
   const float f = static_cast<float>(x);
-  return double(f) < x ? f : nextFloatDown(f);
+  return double(f) < x ? f : nextDown(f);
 }
 inline float floatAbove(double x) {
   const float f = static_cast<float>(x);
-  return double(f) > x ? f : nextFloatUp(f);
+  return double(f) > x ? f : nextUp(f);
 }
 
 /// A ray: origin + t * dir for t in [tMin, tMax]. dir need not be normalised.
