@@ -42,7 +42,11 @@ struct Scene::Upgrade {
   std::mutex mutex;
   std::condition_variable read;
   bool inputsRead = false;  // guarded by mutex
+  bool lowered = false;     // runs at idle priority (guarded by mutex)
+  bool raised = false;      // taken back to normal priority: never lowered again (guarded by mutex)
+  long tid = 0;             // its thread's id (Linux), for the nice fallback
   std::atomic<bool> finished{false};
+  int commits = 0;  ///< Commits since it started (the scene's thread only).
   std::thread thread;
 
   void run(const std::vector<Object>& objects, const std::function<void()>& hook) {
@@ -53,15 +57,11 @@ struct Scene::Upgrade {
     {
       std::lock_guard<std::mutex> lock(mutex);
       inputsRead = true;
+      // The build itself runs only on cores nothing else wants (the time between frames, not a frame's cores);
+      // the read above ran at normal priority, as a scene change may be waiting for it
+      if (!hook && !raised) lowered = setIdlePriority();
     }
     read.notify_all();
-    // The build itself runs only on cores nothing else wants (the time between frames, not a frame's cores);
-    // the read above ran at normal priority, as a scene change may be waiting for it
-#ifdef __linux__
-    sched_param idle{};
-    if (!hook && pthread_setschedparam(pthread_self(), SCHED_IDLE, &idle) != 0)
-      setpriority(PRIO_PROCESS, id_t(syscall(SYS_gettid)), 19);
-#endif
     BvhBuildOptions opt;
     opt.quality = BvhBuildQuality::Sah;
     opt.threads = 1;
@@ -72,6 +72,33 @@ struct Scene::Upgrade {
     }
     if (hook) hook();
     finished = true;
+  }
+
+  /// This thread to idle scheduling priority (or nice 19 where SCHED_IDLE is refused); false if neither worked.
+  bool setIdlePriority() {
+#ifdef __linux__
+    tid = long(syscall(SYS_gettid));
+    sched_param idle{};
+    return pthread_setschedparam(pthread_self(), SCHED_IDLE, &idle) == 0 ||
+           setpriority(PRIO_PROCESS, id_t(tid), 19) == 0;
+#else
+    return false;
+#endif
+  }
+
+  /// Back to normal priority (for good: a build not lowered yet never will be). False if the process may not
+  /// raise it (Linux: leaving SCHED_IDLE or lowering nice needs CAP_SYS_NICE or a high enough RLIMIT_NICE).
+  bool raise() {
+    std::lock_guard<std::mutex> lock(mutex);
+    raised = true;
+    if (!lowered || finished) return true;
+#ifdef __linux__
+    sched_param normal{};
+    if (pthread_setschedparam(thread.native_handle(), SCHED_OTHER, &normal) != 0) return false;
+    if (getpriority(PRIO_PROCESS, id_t(tid)) > 0 && setpriority(PRIO_PROCESS, id_t(tid), 0) != 0) return false;
+#endif
+    lowered = false;
+    return true;
   }
 };
 
@@ -91,13 +118,9 @@ Scene::UpgradeSlot::~UpgradeSlot() {
 }
 void Scene::UpgradeSlot::wait() {
   if (!job || !job->thread.joinable()) return;
-#ifdef __linux__
-  // Someone waits for it now: back to normal priority, or a busy machine could starve it indefinitely
-  if (!job->finished) {
-    sched_param normal{};
-    pthread_setschedparam(job->thread.native_handle(), SCHED_OTHER, &normal);
-  }
-#endif
+  // Someone waits for it now: back to normal priority, or a busy machine could starve it indefinitely (where the
+  // process may not raise it, the build gets the core the waiting thread leaves)
+  job->raise();
   job->thread.join();
 }
 
@@ -133,8 +156,17 @@ void Scene::waitForUpgrades() {
   upgrade_.wait();
 }
 
+void Scene::pressUpgrade() {
+  Upgrade* u = upgrade_.job.get();
+  if (!u || u->finished || ++u->commits <= kUpgradeIdleCommits) return;
+  // Frames keep coming and leave it no idle core: it continues at normal priority, sharing the cores with the
+  // frames, and a commit waits for it at the latest kUpgradeWaitCommits after it started (at once if the process
+  // may not raise its priority: the build then gets the core the waiting thread leaves)
+  if (u->commits >= kUpgradeWaitCommits || !u->raise()) upgrade_.wait();
+}
+
 void Scene::adoptUpgrades(CommitStats& st) {
-  if (!upgrade_.job || !upgrade_.job->finished) return;  // never waits: frames trace the fast tree until done
+  if (!upgrade_.job || !upgrade_.job->finished) return;  // never waits: pressUpgrade decides that
   upgrade_.wait();                                       // the thread has finished: this only joins it
   for (Upgrade::Item& item : upgrade_.job->items) {
     if (item.object >= objects_.size()) continue;
@@ -319,6 +351,7 @@ CommitStats Scene::commit() {
   // A commit that rebuilds or refits nothing never waits for a background build reading the objects
   if (std::any_of(objects_.begin(), objects_.end(), [](const Object& o) { return o.dirty || o.refitPending; }))
     settleUpgrade();
+  pressUpgrade();
   adoptUpgrades(st);
   buildObjects(st);
   if (topDirty_) buildTopLevel(st);

@@ -106,13 +106,22 @@ class Scene {
   /// primitives with the fast builder, whatever setReplacedBuildQuality says, so the frame that shows it waits for
   /// the shortest build; startUpgrades(), called once that frame is traced, builds the SAH tree of every such
   /// object on a background thread (one build thread at idle scheduling priority: it uses only cores nothing
-  /// else wants); the first commit() after it finished swaps the SAH trees in (CommitStats::objectsUpgraded). No
-  /// commit waits for a build: until the swap, frames trace the complete fast tree. Traversal is exact with either
-  /// tree: images do not change.
+  /// else wants); the first commit() after it finished swaps the SAH trees in (CommitStats::objectsUpgraded). Until
+  /// the swap, frames trace the complete fast tree. When frames come back to back, no core is idle: from the
+  /// (kUpgradeIdleCommits + 1)-th commit after startUpgrades on, the build runs at normal priority (sharing the
+  /// cores with the frames), and the kUpgradeWaitCommits-th commit waits for it, so an upgrade never stays pending
+  /// for ever (where the process may not raise a thread's priority, the first of those commits waits). Traversal
+  /// is exact with either tree: images do not change.
   void setBackgroundUpgrade(bool on) { backgroundUpgrade_ = on; }
   bool backgroundUpgrade() const { return backgroundUpgrade_; }
   /// Objects smaller than this get the SAH build at once (it takes a few milliseconds) with the background upgrade.
   static constexpr std::size_t kUpgradeMin = 50000;
+  /// Commits during which a background build keeps idle priority. Three: the three frames after the fast one are
+  /// as fast as without an upgrade (the total of the first four frames stays below the SAH-first one's), and the
+  /// 1M-triangle SAH build (about 0.6 s of one core) then costs the next two frames about 0.3 s in all.
+  static constexpr int kUpgradeIdleCommits = 3;
+  /// The commit (counted from startUpgrades) that waits for a background build still running.
+  static constexpr int kUpgradeWaitCommits = 16;
   /// Starts the background SAH build of the objects traced with a fast tree, unless one is running or the upgrade
   /// is off. Call it after the frame (the build then uses the time between frames, not the frame's cores).
   void startUpgrades();
@@ -265,6 +274,7 @@ class Scene {
     void wait();  ///< Joins the build's thread if it runs.
   };
   void settleUpgrade();                 ///< Before objects_ changes: waits until a running build has read it.
+  void pressUpgrade();                  ///< Counts a commit for a running build: raises or waits for it in time.
   void adoptUpgrades(CommitStats& st);  ///< Swaps in a finished background build's trees that are still current.
 
   // The steps of commit(), in order

@@ -1,5 +1,6 @@
 // Scene editing without rebuilds: attribute-only updates keep object BVHs, textures are replaced and freed in
 // place (ids reused, memory not growing).
+#include "renderer.h"  // hardwareThreads()
 #include "scene.h"
 #include "scenes.h"
 
@@ -434,6 +435,40 @@ TEST(Scene, BackgroundUpgradeSwapsInTheSahTreeOnceBuilt) {
   expectSameHits(s, ref);
   s.startUpgrades();  // nothing left to upgrade
   EXPECT_FALSE(s.upgradePending());
+}
+
+// Frames back to back leave the idle-priority build no idle core (here: a spinning thread per core): it is raised
+// to normal priority after kUpgradeIdleCommits commits, and swapped in at the latest by the kUpgradeWaitCommits-th
+// commit, never left pending for ever.
+TEST(Scene, BackgroundUpgradeLandsWhileFramesKeepComing) {
+  const TriangleMesh mesh = upgradeMesh(Vec3(0.0));
+  Scene ref;
+  const uint32_t ro = addCommitted(ref, mesh);
+  Scene s;
+  s.setBackgroundUpgrade(true);
+  const uint32_t o = addCommitted(s, mesh);
+  ASSERT_EQ(s.stats().fastTrees, 1u);
+
+  std::atomic<bool> stop{false};
+  std::vector<std::thread> busy;
+  for (int i = 0; i < hardwareThreads(); ++i)
+    busy.emplace_back([&stop] {
+      while (!stop.load(std::memory_order_relaxed)) {
+      }
+    });
+  s.startUpgrades();
+  int upgraded = 0, at = 0;
+  for (int commit = 1; commit <= Scene::kUpgradeWaitCommits && upgraded == 0; ++commit) {
+    upgraded += s.commit().objectsUpgraded;
+    at = commit;
+  }
+  stop = true;
+  for (std::thread& t : busy) t.join();
+  EXPECT_EQ(upgraded, 1) << "still pending after " << at << " commits";
+  EXPECT_FALSE(s.upgradePending());
+  EXPECT_EQ(s.stats().fastTrees, 0u);
+  EXPECT_EQ(s.object(o).bvh.primIndices(), ref.object(ro).bvh.primIndices());
+  expectSameHits(s, ref);
 }
 
 // A background build of geometry replaced while it ran is dropped; the new geometry gets its own upgrade.
