@@ -1,8 +1,20 @@
 #include "object.h"
 
+#include "parallel.h"
+#include "renderer.h"  // hardwareThreads()
+
 namespace whitted {
 
 namespace {
+
+/// Objects of at least this many primitives compute their boxes and reorder their arrays on all cores, in pieces of
+/// kPiece primitives (fixed: the result does not depend on the thread count).
+constexpr std::size_t kParallelMin = 32768;
+constexpr std::size_t kPiece = 8192;
+
+int threadsFor(std::size_t n) {
+  return n >= kParallelMin ? hardwareThreads() : 1;
+}
 
 /// Leaf order of every primitive after o.bvh was built over the valid primitives `valid` of n (given order), and
 /// leaf-ordered arrays (stored in the given order) put in that order.
@@ -25,7 +37,10 @@ void applyLeafOrder(Object& o, typename Shape::Geometry& g, const std::vector<ui
     auto& stored = Shape::leafOrdered(g);
     std::remove_reference_t<decltype(stored)> leafOrdered(stored.size());
     const uint32_t* order = o.leafPrims();
-    for (std::size_t k = 0; k < leafOrdered.size(); ++k) leafOrdered[k] = stored[order[k]];
+    WorkerPool pool(threadsFor(stored.size()));
+    forChunks(pool, stored.size(), kPiece, [&](std::size_t b, std::size_t e) {
+      for (std::size_t k = b; k < e; ++k) leafOrdered[k] = stored[order[k]];
+    });
     stored = std::move(leafOrdered);
   }
   o.dirty = false;
@@ -35,23 +50,44 @@ template <typename Shape>
 std::size_t rebuildShape(Object& o, typename Shape::Geometry& g, BvhBuildQuality quality) {
   Shape::sanitize(g);
 
-  // Boxes of valid primitives; non-finite and degenerate ones are left out of the BVH
+  // Boxes of valid primitives; non-finite and degenerate ones are left out of the BVH. Each piece keeps its valid
+  // ones at its start, then the pieces close ranks in order: the same arrays as one pass in order
   const std::size_t n = Shape::count(g);
-  std::vector<Bounds3> boxes;
-  std::vector<Vec3> centroids;
-  std::vector<uint32_t> valid;
-  boxes.reserve(n);
-  centroids.reserve(n);
-  valid.reserve(n);
+  std::vector<Bounds3> boxes(n);
+  std::vector<Vec3> centroids(n);
+  std::vector<uint32_t> valid(n);
+  const std::size_t pieces = (n + kPiece - 1) / kPiece;
+  std::vector<std::size_t> kept(pieces);
+  std::vector<Bounds3> pieceBounds(pieces);
+  WorkerPool pool(threadsFor(n));
+  forChunks(pool, n, kPiece, [&](std::size_t b, std::size_t e) {
+    std::size_t m = b;
+    Bounds3 box, all;
+    for (std::size_t i = b; i < e; ++i) {
+      if (!Shape::bounds(g, uint32_t(i), box)) continue;
+      boxes[m] = box;
+      centroids[m] = box.center();
+      valid[m++] = uint32_t(i);
+      all.extend(box);
+    }
+    kept[b / kPiece] = m - b;
+    pieceBounds[b / kPiece] = all;
+  });
+  std::size_t nValid = 0;
   o.bounds = Bounds3();
-  Bounds3 box;
-  for (uint32_t i = 0; i < n; ++i) {
-    if (!Shape::bounds(g, i, box)) continue;
-    boxes.push_back(box);
-    centroids.push_back(box.center());
-    valid.push_back(i);
-    o.bounds.extend(box);
+  for (std::size_t k = 0; k < pieces; ++k) {
+    const std::size_t b = k * kPiece;
+    if (nValid != b) {  // some primitive before was left out
+      std::copy(boxes.begin() + b, boxes.begin() + b + kept[k], boxes.begin() + nValid);
+      std::copy(centroids.begin() + b, centroids.begin() + b + kept[k], centroids.begin() + nValid);
+      std::copy(valid.begin() + b, valid.begin() + b + kept[k], valid.begin() + nValid);
+    }
+    nValid += kept[k];
+    o.bounds.extend(pieceBounds[k]);
   }
+  boxes.resize(nValid);
+  centroids.resize(nValid);
+  valid.resize(nValid);
   BvhBuildOptions opt;
   opt.quality = quality;
   o.bvh.build(boxes, centroids, opt);
