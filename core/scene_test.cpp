@@ -10,10 +10,15 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <future>
 #include <limits>
+#include <memory>
 #include <random>
 #include <thread>
+#ifdef __linux__
+#include <sched.h>
+#endif
 
 using namespace whitted;
 
@@ -470,6 +475,47 @@ TEST(Scene, BackgroundUpgradeLandsWhileFramesKeepComing) {
   EXPECT_EQ(s.object(o).bvh.primIndices(), ref.object(ro).bvh.primIndices());
   expectSameHits(s, ref);
 }
+
+#ifdef __linux__
+// Object rebuilds split their box and reordering passes over all cores: the tree, the leaf order and the stored
+// triangles must not depend on how many (here: all cores against one, with the fast and the SAH builder, on a mesh
+// with invalid triangles, so the pieces are compacted).
+TEST(Scene, ObjectRebuildDoesNotDependOnTheCoreCount) {
+  const TriangleMesh mesh = upgradeMesh(Vec3(0.0));
+  for (bool fast : {false, true}) {
+    auto build = [&] {
+      auto s = std::make_unique<Scene>();
+      s->setBackgroundUpgrade(fast);  // large new geometry: the fast builder
+      addCommitted(*s, mesh);
+      return s;
+    };
+    const std::unique_ptr<Scene> all = build();
+    cpu_set_t saved, one;
+    ASSERT_EQ(sched_getaffinity(0, sizeof saved, &saved), 0);
+    CPU_ZERO(&one);
+    for (int c = 0; c < CPU_SETSIZE; ++c)
+      if (CPU_ISSET(c, &saved)) {
+        CPU_SET(c, &one);
+        break;
+      }
+    ASSERT_EQ(sched_setaffinity(0, sizeof one, &one), 0);
+    ASSERT_EQ(hardwareThreads(), 1);
+    const std::unique_ptr<Scene> single = build();
+    ASSERT_EQ(sched_setaffinity(0, sizeof saved, &saved), 0);
+    const Object &a = all->object(0), &b = single->object(0);
+    EXPECT_EQ(a.builtQuality, fast ? BvhBuildQuality::Fast : BvhBuildQuality::Sah);
+    EXPECT_EQ(a.bvh.primIndices(), b.bvh.primIndices());
+    EXPECT_EQ(a.primOrder, b.primOrder);
+    EXPECT_FALSE(a.primOrder.empty());  // some triangles were left out
+    ASSERT_EQ(a.bvh.nodes().size(), b.bvh.nodes().size());
+    EXPECT_EQ(std::memcmp(a.bvh.nodes().data(), b.bvh.nodes().data(), a.bvh.nodes().size() * sizeof(BvhWideNode)), 0);
+    EXPECT_EQ(a.bounds.lo, b.bounds.lo);
+    EXPECT_EQ(a.bounds.hi, b.bounds.hi);
+    EXPECT_EQ(std::get<TriangleMesh>(a.geometry).triangles, std::get<TriangleMesh>(b.geometry).triangles);
+    all->waitForUpgrades();
+  }
+}
+#endif
 
 // A background build of geometry replaced while it ran is dropped; the new geometry gets its own upgrade.
 TEST(Scene, BackgroundUpgradeOfReplacedGeometryIsDropped) {
