@@ -19,8 +19,12 @@
 #include "vtkTexture.h"
 #include "vtkUnsignedCharArray.h"
 
+#include "parallel.h" // whitted::WorkerPool
+#include "renderer.h" // whitted::hardwareThreads
+
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <unordered_set>
 #include <vector>
 
@@ -30,6 +34,22 @@ using whitted::Color4;
 using whitted::Vec2f;
 using whitted::Vec3;
 using whitted::Vec3f;
+
+//------------------------------------------------------------------------------
+// Calls fn(begin, end) over pieces of [0, n), on all cores when n is large (fn only reads VTK
+// arrays: GetTuple into a caller's buffer, GetPointer), and returns the sum of what fn returns (a
+// count). The pieces have a fixed size, so results do not depend on the number of threads.
+template <typename Fn>
+vtkIdType ForPieces(vtkIdType n, Fn&& fn)
+{
+  constexpr size_t piece = 16384;
+  const size_t count = n > 0 ? static_cast<size_t>(n) : 0;
+  whitted::WorkerPool pool(count >= 4 * piece ? whitted::hardwareThreads() : 1);
+  std::vector<vtkIdType> sums((count + piece - 1) / piece, 0);
+  whitted::forChunks(pool, count, piece, [&](size_t b, size_t e)
+    { sums[b / piece] = fn(static_cast<vtkIdType>(b), static_cast<vtkIdType>(e)); });
+  return std::accumulate(sums.begin(), sums.end(), vtkIdType(0));
+}
 
 Color4 ColorFromTuple(const unsigned char* c, int nc)
 {
@@ -192,6 +212,11 @@ void Triangulate(vtkPoints* points, const CellArrays& cells, TriangleList& out, 
   const vtkIdType np = points->GetNumberOfPoints();
   vtkNew<vtkPolygon> polygon;
   vtkNew<vtkIdList> tris;
+  // At least a triangle per polygon (exactly one for a triangle mesh): no regrowth
+  const size_t polys = static_cast<size_t>(cells.Arrays[CellArrays::Polys]->GetNumberOfCells());
+  out.Tris.reserve(polys);
+  out.Cells.reserve(polys);
+  out.Edges.reserve(polys);
 
   cells.ForEachValidCell(CellArrays::Polys, np, invalid,
     [&](vtkIdType n, const vtkIdType* ids, vtkIdType cellId)
@@ -719,19 +744,25 @@ void AddTriangles(const PrimitiveInput& in, vtkWhittedPolyDataConverter::Primiti
     // Shared vertices
     const vtkIdType np = in.NumberOfPoints;
     attributes.Resize(m, static_cast<size_t>(np));
-    for (vtkIdType i = 0; i < np; ++i)
-    {
-      attributes.Set(m, static_cast<size_t>(i), i);
-    }
-    m.triangles = std::move(tl.Tris);
     if (pointNormals)
     {
       m.normals.resize(static_cast<size_t>(np));
-      for (vtkIdType i = 0; i < np; ++i)
-      {
-        m.normals[i] = NormalAt(pointNormals, i, issues.BadNormals);
-      }
     }
+    issues.BadNormals += ForPieces(np,
+      [&](vtkIdType b, vtkIdType e)
+      {
+        vtkIdType bad = 0;
+        for (vtkIdType i = b; i < e; ++i)
+        {
+          attributes.Set(m, static_cast<size_t>(i), i);
+          if (pointNormals)
+          {
+            m.normals[i] = NormalAt(pointNormals, i, bad);
+          }
+        }
+        return bad;
+      });
+    m.triangles = std::move(tl.Tris);
   }
   else
   {
@@ -887,15 +918,18 @@ void vtkWhittedPolyDataConverter::ConvertPrimitives(
 
   // Non-finite points are left in (the core skips every primitive using one) but counted
   vtkDataArray* coords = points->GetData();
-  for (vtkIdType i = 0; i < np; ++i)
-  {
-    double x[3];
-    coords->GetTuple(i, x);
-    if (!(std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2])))
+  issues.NonFinitePoints += ForPieces(np,
+    [coords](vtkIdType b, vtkIdType e)
     {
-      ++issues.NonFinitePoints;
-    }
-  }
+      vtkIdType nonFinite = 0;
+      for (vtkIdType i = b; i < e; ++i)
+      {
+        double x[3];
+        coords->GetTuple(i, x);
+        nonFinite += !(std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]));
+      }
+      return nonFinite;
+    });
 
   ColorSource colors;
   MapColors(
