@@ -462,6 +462,8 @@ TEST(Scene, BackgroundUpgradeLandsWhileFramesKeepComing) {
       }
     });
   s.startUpgrades();
+  // A scene change waits until the build has read its inputs, by when it has lowered its priority
+  s.addSpheres(SphereSet{{Vec3(5.0, 0.0, 0.0)}, {0.5}, {}});
   int upgraded = 0, at = 0;
   for (int commit = 1; commit <= Scene::kUpgradeWaitCommits && upgraded == 0; ++commit) {
     upgraded += s.commit().objectsUpgraded;
