@@ -105,6 +105,7 @@ class FrameJob {
     if (keep && !resume) keep->reset();
     if (resume) {
       acc_ = std::move(keep->pixels);
+      measures_.restore(keep->measures);
     } else if (progressive_) {
       acc_.assign(std::size_t(w_) * h_, PixelSums{});
     }
@@ -150,6 +151,7 @@ class FrameJob {
       keep->width = w_;
       keep->height = h_;
       keep->pixels = std::move(acc_);
+      measures_.save(keep->measures);
     }
 
     // Deterministic reductions (fixed order, independent of thread count)
@@ -279,9 +281,11 @@ class FrameJob {
     // Performance note: the stratified samples and the sequence's in two loops (same order), so the sequence's
     // per-pixel hashes, which the compiler hoists out of a joint loop, are not computed for every pixel
     const int strata = std::min(std::max(ps.strata, first), last);
+    const uint64_t rays0 = st.traced();
     for (int s = first; s < strata; ++s) addSample(samplePos(px, py, s, ps.strata), integ, ps, st, rowBackground);
     for (int s = strata; s < last; ++s) addSample(sequencePos(px, py, s - ps.strata), integ, ps, st, rowBackground);
     ps.n += last - first;
+    ps.rays += uint32_t(std::min<uint64_t>(st.traced() - rays0, UINT32_MAX - ps.rays));
   }
 
   // Adds one camera sample at continuous pixel position p to ps
@@ -352,10 +356,9 @@ class FrameJob {
     supersampled_ += refined;
   }
 
-  // Progressive rounds: pick the pixels whose squared estimate (truncation bound + sampling estimate) per sample
-  // is largest (the top quarter of the pixels that can still be refined, and only those above half the target); a
-  // picked pixel whose truncation bound dominates is traced again one loosening level deeper, the others get
-  // more samples; re-estimate, until the target is met, the budget is spent, nothing is left to refine or the
+  // Progressive rounds: pick the pixels whose refinement removes the most estimated squared error per ray (see
+  // RenderSettings::targetError), each with its better way (more samples or one loosening level deeper), up to the
+  // round's rays; re-estimate, until the target is met, the budget is spent, nothing is left to refine or the
   // call's rounds are used (progressive display). A round cut short by an abort or the call's time slice keeps
   // its pixels still to refine in the RefinementState, and the next call finishes it first: the pixels refined
   // and the frame reached are the same as without the cut. before: tracing seconds earlier calls spent on this
@@ -409,34 +412,89 @@ class FrameJob {
       auto canSample = [&](std::size_t i) { return acc_[i].n < maxSamples && fb_.sampling[i] > 0.0f; };
       auto canLoosen = [&](std::size_t i) { return acc_[i].level < maxLevel && fb_.truncation[i] > 0.0f; };
       auto estimate = [&](std::size_t i) { return fb_.truncation[i] + fb_.sampling[i]; };
-      // What refining a pixel gains per sample it costs: its squared estimate (the share of the image's squared
-      // error it can remove) over its samples (what doubling or retracing them costs)
-      auto priority = [&](std::size_t i) { return estimate(i) * estimate(i) / float(acc_[i].n); };
-      // The cut-off: the 75th percentile of the refinable pixels' priorities; only pixels above half the target
-      std::vector<float> candidates;
-      for (std::size_t i = 0; i < acc_.size(); ++i)
-        if (fb_.traced[i] && (canSample(i) || canLoosen(i))) candidates.push_back(priority(i));
-      if (candidates.empty()) {
-        fs.refinementFinished = true;
-        break;
+      // What refining a pixel gains per ray it costs, for each way to refine it: the drop of its squared estimate
+      // (truncation bound + sampling estimate, the share of the image's squared error it can remove) over the
+      // rays it will take (its own rays per sample so far, for a looser level times the growth measured on the
+      // pixels loosened before). Picks the better way per pixel.
+      std::vector<float> loosenGrowth(std::size_t(maxLevel) + 2), share(std::size_t(maxLevel) + 2), gridGrowth(2);
+      for (int l = -1; l <= maxLevel; ++l) {
+        loosenGrowth[std::size_t(l + 1)] = measures_.loosenGrowth(l);
+        share[std::size_t(l + 1)] = measures_.truncationShare(l);
       }
-      auto q = candidates.begin() + std::ptrdiff_t(candidates.size() * 3 / 4);
-      std::nth_element(candidates.begin(), q, candidates.end());
-      const float cut = *q;
+      for (int c = 0; c < 2; ++c) gridGrowth[std::size_t(c)] = measures_.gridGrowth(c == 1);
+      struct Choice {
+        float gainPerRay = 0.0f, rays = 0.0f;
+        uint8_t action = kKeep;
+      };
+      auto choose = [&](std::size_t i) {
+        const PixelSums& ps = acc_[i];
+        // The truncation bound scaled by the share of it that loosening changed so far at this level
+        const float t = fb_.truncation[i] * share[std::size_t(ps.level + 1)], smp = fb_.sampling[i], e = t + smp;
+        const float raysPerSample = std::max(1.0f, float(ps.rays)) / float(ps.n);
+        Choice c;
+        if (canSample(i)) {
+          float gain;
+          if (ps.n == 1 && ps.strata == 1 && maxSamples >= kFirstStrata) {
+            // Centre sample -> jittered 2x2 grid (coarse when its sampling estimate is well above its bound)
+            const bool coarse = ps.level == 0 && coarse_ && t * kCoarseMargin < smp;
+            c.action = coarse ? kSampleCoarse : kSample;
+            gain = e * e - (t + 0.5f * smp) * (t + 0.5f * smp);
+            c.rays = float(kFirstStrata) * raysPerSample * gridGrowth[coarse ? 1 : 0];
+          } else {
+            const int add = std::min(ps.n, maxSamples - ps.n);
+            const float k = std::sqrt(float(ps.n) / float(ps.n + add));
+            gain = e * e - (t + k * smp) * (t + k * smp);
+            c.action = kSample;
+            c.rays = float(add) * raysPerSample;
+          }
+          c.gainPerRay = gain / c.rays;
+        }
+        if (canLoosen(i)) {
+          const float left = t / 16.0f + smp;
+          const float rays = float(ps.n) * raysPerSample * loosenGrowth[std::size_t(ps.level + 1)];
+          const float gain = (e * e - left * left) / rays;
+          if (gain > c.gainPerRay) c = Choice{gain, rays, kLoosen};
+        }
+        return c;
+      };
+      // The round's size in rays: half the rays of the image so far (rounds grow geometrically, so their
+      // re-estimates cost little), with a budget at most what the time left can trace (at the rate so far), all
+      // of it if a round that size would leave less than half a round
+      double imageRays = 0.0;
+      for (const PixelSums& ps : acc_) imageRays += ps.rays;
+      double roundRays = kRoundShare * imageRays;
+      if (deadline_) {
+        RayStats traced;
+        for (const RayStats& r : tileStats_) traced += r;
+        const double spent = elapsed() - before;
+        const double left = std::chrono::duration<double>(*deadline_ - std::chrono::steady_clock::now()).count();
+        if (spent > 0.0 && left > 0.0) {
+          const double affordable = double(traced.traced()) / spent * left;
+          if (1.5 * roundRays > affordable) roundRays = affordable;
+        }
+      }
+      // The pixels with the most gain per ray whose rays add up to the round's size: costs summed per priority
+      // bucket (a quarter octave each), taken from the top bucket down
       const float least = float(0.5 * s_.targetError);
+      std::vector<Choice> choices(acc_.size());
+      std::vector<double> bucketRays(kBuckets, 0.0);
+      auto bucketOf = [](float g) {
+        return std::clamp(int(std::floor(4.0f * std::log2(g))) + kBuckets / 2, 0, kBuckets - 1);
+      };
+      for (std::size_t i = 0; i < acc_.size(); ++i) {
+        if (!fb_.traced[i] || estimate(i) < least || estimate(i) <= 0.0f || !(canSample(i) || canLoosen(i))) continue;
+        choices[i] = choose(i);
+        if (choices[i].action != kKeep && choices[i].gainPerRay > 0.0f)
+          bucketRays[std::size_t(bucketOf(choices[i].gainPerRay))] += choices[i].rays;
+        else
+          choices[i].action = kKeep;
+      }
+      int cutBucket = kBuckets;
+      for (double sum = 0.0; cutBucket > 0 && sum < roundRays;) sum += bucketRays[std::size_t(--cutBucket)];
       std::size_t marked = 0;
       for (std::size_t i = 0; i < acc_.size(); ++i) {
-        marks_[i] = kKeep;
-        if (!fb_.traced[i] || estimate(i) < least || estimate(i) <= 0.0f || priority(i) < cut) continue;
-        const bool sample = canSample(i), loosen = canLoosen(i);
-        if (loosen && (!sample || fb_.truncation[i] >= fb_.sampling[i]))
-          marks_[i] = kLoosen;
-        else if (sample)
-          // A centre sample whose sampling estimate is well above its truncation bound: its grid goes coarse
-          marks_[i] = acc_[i].n == 1 && acc_[i].strata == 1 && acc_[i].level == 0 && coarse_ &&
-                              fb_.truncation[i] * kCoarseMargin < fb_.sampling[i]
-                          ? kSampleCoarse
-                          : kSample;
+        const Choice& c = choices[i];
+        marks_[i] = c.action != kKeep && bucketOf(c.gainPerRay) >= cutBucket ? c.action : uint8_t(kKeep);
         marked += marks_[i] != kKeep;
       }
       if (marked == 0) {
@@ -498,12 +556,69 @@ class FrameJob {
   bool sliceOver() const { return sliceEnd_ && std::chrono::steady_clock::now() >= *sliceEnd_; }
 
   enum : uint8_t { kKeep = 0, kSample = 1, kLoosen = 2, kSampleCoarse = 3 };
+
+  /// What refinement measured on the pixels refined so far in this frame, to steer the next rounds by: how many
+  /// more rays a pixel's samples take when traced again one loosening level looser, and a centre sample's 2x2
+  /// grid per sample (at the frame's or the coarse level); and how much of its truncation bound a loosened pixel
+  /// actually changed by (the same samples traced again: the difference is truncation alone). Integer sums (the
+  /// bounds in fixed point), so the same for any thread count and call split; each ratio starts from a prior worth
+  /// a few pixels.
+  class RefineMeasures {
+   public:
+    void addLoosen(int level, uint64_t raysBefore, uint64_t raysAfter, float bound, float change) {
+      const std::size_t k = std::size_t(level + 1);
+      add(kRays + k, raysBefore, raysAfter);
+      add(kTruncation + k, fixed(bound), fixed(std::min(bound, change)));
+    }
+    void addGrid(bool coarse, uint64_t raysBefore, uint64_t raysAfter) {
+      add(kRays + kGrid + coarse, raysBefore, raysAfter);
+    }
+    /// Rays of a pixel loosened from level over its rays before
+    float loosenGrowth(int level) const { return ratio(kRays + std::size_t(level + 1), kLoosenPrior, kPriorRays); }
+    /// Rays per sample of a 2x2 grid over the centre sample's rays
+    float gridGrowth(bool coarse) const { return ratio(kRays + kGrid + coarse, 1.0, kPriorRays); }
+    /// Share of the truncation bound of pixels at this level that loosening them changed
+    float truncationShare(int level) const { return ratio(kTruncation + std::size_t(level + 1), 1.0, kPriorBound); }
+    void save(std::vector<uint64_t>& out) const {
+      out.resize(2 * kSlots);
+      for (std::size_t k = 0; k < kSlots; ++k) {
+        out[2 * k] = before_[k].load();
+        out[2 * k + 1] = after_[k].load();
+      }
+    }
+    void restore(const std::vector<uint64_t>& in) {
+      if (in.size() != 2 * kSlots) return;
+      for (std::size_t k = 0; k < kSlots; ++k) {
+        before_[k] = in[2 * k];
+        after_[k] = in[2 * k + 1];
+      }
+    }
+
+   private:
+    static constexpr std::size_t kLevels = kMaxLoosening + 2, kGrid = kLevels, kRays = 0, kTruncation = kLevels + 2;
+    static constexpr std::size_t kSlots = kTruncation + kLevels;
+    static constexpr double kLoosenPrior = 4.0, kPriorRays = 64.0, kFixed = double(1 << 24);
+    static constexpr double kPriorBound = 4.0 * kFixed;  // four pixels with a bound of 1
+    static uint64_t fixed(float v) { return uint64_t(double(std::clamp(v, 0.0f, 1.0f)) * kFixed); }
+    void add(std::size_t k, uint64_t before, uint64_t after) {
+      before_[k].fetch_add(before, std::memory_order_relaxed);
+      after_[k].fetch_add(after, std::memory_order_relaxed);
+    }
+    float ratio(std::size_t k, double prior, double weight) const {
+      return float((double(after_[k].load()) + prior * weight) / (double(before_[k].load()) + weight));
+    }
+    std::atomic<uint64_t> before_[kSlots] = {}, after_[kSlots] = {};
+  };
+
   static constexpr int kFirstStrata = 4;  ///< A refined one-sample pixel's first stratified grid.
   /// Coarse level of extra samples (see makeCoarse): the threshold factor and cap, and how far a pixel's sampling
   /// estimate must exceed its truncation bound for its refined samples to be traced coarse.
   static constexpr float kCoarseFactor = 16.0f;
   static constexpr float kCoarseThreshold = 64.0f / 255.0f;
   static constexpr float kCoarseMargin = 4.0f;
+  /// A refinement round's rays, as a share of the image's so far; priority buckets of the round's selection.
+  static constexpr double kRoundShare = 0.5;
+  static constexpr int kBuckets = 512;
 
   // The integrator settings of a loosening level: maxDepth doubled (at least +2, at most 64) and the threshold
   // divided by 16 per level
@@ -553,12 +668,20 @@ class FrameJob {
     forTilePixels(tileSlot, [&](int px, int py, std::size_t idx, const Color& rowBackground) {
       if (marks_[idx] == kKeep) return;
       PixelSums& ps = acc_[idx];
+      bool loosened = false;
+      int levelBefore = 0;
+      uint32_t raysBefore = 0;
+      const Color4 colorBefore = fb_.color[idx];
+      const float boundBefore = fb_.truncation[idx];
       if (marks_[idx] == kLoosen) {
         // The same samples again, one level looser
         PixelSums fresh;
         fresh.strata = ps.strata;
         fresh.level = ps.level + 1;
         addSamples(px, py, 0, ps.n, integratorAt(fresh.level), fresh, st, rowBackground);
+        loosened = true;
+        levelBefore = ps.level;
+        raysBefore = ps.rays;
         retraced += std::size_t(ps.n);
         ps = fresh;
       } else if (ps.n == 1 && ps.strata == 1 && maxSamples >= kFirstStrata) {
@@ -569,6 +692,7 @@ class FrameJob {
         fresh.strata = kFirstStrata;
         fresh.level = marks_[idx] == kSampleCoarse ? -1 : ps.level;
         addSamples(px, py, 0, kFirstStrata, integratorAt(fresh.level), fresh, st, rowBackground);
+        measures_.addGrid(fresh.level < 0, uint64_t(ps.rays) * kFirstStrata, fresh.rays);
         samples += kFirstStrata - 1;
         retraced += 1;
         ps = fresh;
@@ -579,6 +703,11 @@ class FrameJob {
       }
       marks_[idx] = kKeep;
       writePixel(idx, ps, st);
+      if (loosened) {
+        const Color4 d = glm::abs(glm::clamp(fb_.color[idx], Color4(0.0f), Color4(1.0f)) -
+                                  glm::clamp(colorBefore, Color4(0.0f), Color4(1.0f)));
+        measures_.addLoosen(levelBefore, raysBefore, ps.rays, boundBefore, std::max(std::max(d.x, d.y), d.z));
+      }
     });
     samples_ += samples;
     retraced_ += retraced;
@@ -718,6 +847,7 @@ class FrameJob {
   std::optional<std::chrono::steady_clock::time_point> sliceEnd_;  ///< The call's refinement slice ends here.
   std::vector<std::unique_ptr<Integrator>> levels_;                ///< Loosening levels 1.. (progressive refinement).
   std::unique_ptr<Integrator> coarse_;                             ///< Level -1 (see makeCoarse); may be null.
+  RefineMeasures measures_;  ///< What refinement measured so far (see RefineMeasures).
   std::atomic<uint64_t> samples_{0}, supersampled_{0}, retraced_{0};
   std::atomic<double> longestTile_{0.0};
   bool aborted_ = false;

@@ -51,6 +51,7 @@ struct PixelSums {
   int n = 0;                                     ///< Samples summed (0: the pixel is not traced by this process).
   int strata = 1;  ///< Samples of the first pass (a stratified grid); later samples continue a 2D sequence.
   int level = 0;  ///< Loosening level the samples were traced at, -1 = coarse (see RenderSettings::targetError).
+  uint32_t rays = 0;  ///< Rays traced for the samples summed (what tracing them again costs).
   bool anyHit = false;
 };
 
@@ -70,6 +71,7 @@ struct RefinementState {
   /// empty when no round is pending. The next call finishes it first.
   std::vector<uint8_t> pending;
   std::vector<std::pair<double, double>> progress;  ///< As FrameStats::progress, over all calls.
+  std::vector<uint64_t> measures;  ///< What refinement measured so far (ray growth, truncation share), to steer by.
   void reset() { *this = RefinementState{}; }
 };
 
@@ -90,20 +92,23 @@ struct RenderSettings {
   /// 1-spp frame of the classic scene) and the error summaries of FrameStats. Off (e.g. for interactive frames):
   /// FrameBuffer::sampling is the samples' spread alone (0 for one-sample pixels), the summaries are 0. Default on.
   bool errorEstimates = true;
-  /// Progressive refinement of a still frame (with errorEstimates): after the first pass, rounds add samples to
-  /// the pixels whose sampling estimate is largest (doubling their count, up to maxProgressiveSamples) until the
-  /// RMS of the per-pixel total estimate is at most targetError, the frame has taken timeBudget seconds, or no
-  /// pixel can be refined. Either at 0 (the default) leaves it out; both 0: no refinement. Each round picks the
-  /// quarter of the refinable pixels with the largest squared estimate (truncation bound + sampling estimate)
-  /// per sample (what refining them removes of the image's squared error per sample it costs), at least half the
-  /// target; a picked pixel whose truncation bound is at least its sampling estimate is traced again with its
-  /// samples at the next loosening level (maxDepth doubled, at least +2, up to 64; contribution threshold / 16;
-  /// at most kMaxLoosening levels), the others get more samples: a pixel with only its centre sample gets a
-  /// jittered 2x2 grid instead (as adaptive sampling does), traced at the coarse level (contribution threshold
-  /// x 16, at most 64/255, never below the frame's) when its sampling estimate is over 4x its truncation bound
-  /// (the coarse samples' truncation bounds are summed like any other: where they then dominate, the pixel is
-  /// loosened back to the frame's level and beyond), any other pixel twice its samples at its level, continuing a
-  /// low-discrepancy sequence (R2, rotated per pixel) after its stratified grid.
+  /// Progressive refinement of a still frame (with errorEstimates): after the first pass, rounds refine the
+  /// pixels where refining removes the most estimated squared error per ray it costs, until the RMS of the
+  /// per-pixel total estimate is at most targetError, the frame has taken timeBudget seconds, or no pixel can be
+  /// refined. Either at 0 (the default) leaves it out; both 0: no refinement. A pixel can get more samples (a
+  /// pixel with only its centre sample a jittered 2x2 grid instead, as adaptive sampling does, traced at the
+  /// coarse level -- contribution threshold x 16, at most 64/255, never below the frame's -- when its sampling
+  /// estimate is over 4x its truncation part; any other pixel twice its samples at its level, continuing a
+  /// low-discrepancy sequence, R2 rotated per pixel, after its stratified grid), or be traced again with its
+  /// samples at the next loosening level (maxDepth doubled, at least +2, up to 64; contribution threshold / 16; at
+  /// most kMaxLoosening levels). Each way's gain is the drop of the pixel's squared estimate (truncation part +
+  /// sampling estimate), its cost the rays it takes (the pixel's rays per sample so far; for a grid or a looser
+  /// level times the growth measured on the pixels refined so far); the truncation part is the bound scaled by the
+  /// share of it that loosening actually changed on the pixels loosened so far from that level (the bound is an
+  /// upper bound, up to 40x the measured truncation on glass; the estimate reported stays the bound). Each pixel
+  /// takes its better way; a round takes the pixels with the most gain per ray (only those above half the target)
+  /// up to half the rays of the image so far, and with a timeBudget at most what the time left can trace at the
+  /// rate so far (the whole rest when less than 1.5 rounds are left).
   double targetError = 0.0;
   double timeBudget = 0.0;          ///< Seconds for the whole frame; checked between tiles (overshoot <= one tile).
   int maxProgressiveSamples = 256;  ///< Most samples a pixel gets from refinement. Default 256.

@@ -5,7 +5,10 @@
 // --budget S: slow settings get fewer timed runs; --quick: a few settings only; --png-dir DIR keeps the reference
 // and default images; --progressive-only: of the sweep only the default setting (the progressive mode's start and
 // time unit), then the progressive mode; --budgets F,F,...: the progressive mode's budgets as multiples of the
-// default frame's time.
+// default frame's time; --ref-cache FILE: the reference image's colours (raw floats) are read from FILE if it holds
+// a whole image (the caller keeps it to one scene, size, --ref-spp and --ref-depth), else rendered and written there
+// (a reference read from it has no timing or estimate in its row): reruns of the progressive rows skip the slowest
+// render.
 #include "bench_commands.h"
 #include "image_metrics.h"
 
@@ -86,7 +89,24 @@ int cmdError(const Args& a) {
   ref.integrator.contributionThreshold = 0.0f;
   FrameBuffer refFb;
   FrameStats refFs;
-  Timing refT = renderTimed(ref, refFb, refFs, 0, 1);
+  Timing refT{};
+  const std::string refCache = a.str("ref-cache");
+  bool cached = false;
+  if (!refCache.empty()) {
+    if (FILE* fp = std::fopen(refCache.c_str(), "rb")) {
+      refFb.resize(w, h);
+      cached = std::fread(refFb.color.data(), sizeof(Color4), refFb.color.size(), fp) == refFb.color.size();
+      std::fclose(fp);
+    }
+  }
+  if (!cached) {
+    refT = renderTimed(ref, refFb, refFs, 0, 1);
+    if (!refCache.empty())
+      if (FILE* fp = std::fopen(refCache.c_str(), "wb")) {
+        std::fwrite(refFb.color.data(), sizeof(Color4), refFb.color.size(), fp);
+        std::fclose(fp);
+      }
+  }
   savePng(pngDir.empty() ? "" : pngDir + "/" + bs.name + "_reference.png", refFb);
   csv.row({bs.name,
            fmt(refSpp),
