@@ -105,6 +105,14 @@ vtkWhittedGlyphConverter::Problem vtkWhittedGlyphConverter::ForEachGlyph(vtkGlyp
   }
   vtkDataArray* indices = Get(mapper, &GlyphArrays::GetSourceIndexArray, points);
   vtkDataArray* scales = Get(mapper, &GlyphArrays::GetScaleArray, points);
+  // An array shorter than the point list (an inconsistent dataset) would be read past its end
+  for (vtkDataArray* a : { orientations, static_cast<vtkDataArray*>(mask), indices, scales })
+  {
+    if (a && (a->GetNumberOfTuples() < numberOfPoints || a->GetNumberOfComponents() < 1))
+    {
+      return ShortArray;
+    }
+  }
   const int scaleMode = mapper->GetScaleMode();
   Problem problem = None;
   if (scales && scaleMode == vtkGlyph3DMapper::SCALE_BY_COMPONENTS &&

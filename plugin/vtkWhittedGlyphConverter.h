@@ -46,7 +46,8 @@ public:
     None = 0,
     OrientationComponents, ///< Orientation array without 3 (DIRECTION, ROTATION) or 4 components.
     MaskComponents,        ///< Mask array with more than one component.
-    ScaleComponents        ///< SCALE_BY_COMPONENTS with a scale array of other than 3 components.
+    ScaleComponents,       ///< SCALE_BY_COMPONENTS with a scale array of other than 3 components.
+    ShortArray             ///< An orientation, mask, source index or scale array with fewer tuples than points.
   };
 
   /**

@@ -774,7 +774,9 @@ struct vtkWhittedSceneConverter::Internals
       static const char* const what[] = { "",
         "its orientation array does not have 3 components (4 for quaternions)",
         "its mask array has more than one component",
-        "scaling by components needs a scale array of 3 components" };
+        "scaling by components needs a scale array of 3 components",
+        "one of its orientation, mask, source index or scale arrays has fewer tuples than the dataset has "
+        "points" };
       this->Warnings.WarnOnce(actor, vtkWhittedWarnings::GlyphArrays,
         std::string(what[problem]) + ": as in VTK, " +
           (problem == vtkWhittedGlyphConverter::ScaleComponents ? "glyphs are not scaled"
