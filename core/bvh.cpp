@@ -1,7 +1,6 @@
 #include "bvh.h"
 
 #include "parallel.h"
-#include "renderer.h"  // hardwareThreads()
 
 #include <algorithm>
 #include <array>

@@ -1,7 +1,6 @@
 #include "object.h"
 
 #include "parallel.h"
-#include "renderer.h"  // hardwareThreads()
 
 namespace whitted {
 

@@ -13,14 +13,34 @@
 #include <thread>
 #include <vector>
 
+#ifdef __linux__
+#include <sched.h>
+#endif
+
 namespace whitted {
 
-/// A fixed set of threads for the duration of one build (or one object rebuild, one conversion); run() hands out job indices and returns when every job
-/// has finished. It waits for jobs, not for workers: a worker that has not woken up by the time the calling thread
-/// and the others have taken every job is not waited for (on a busy machine a descheduled worker would otherwise
-/// add a time slice to each of the build's many passes: 2.3 s instead of 0.3 s for 1M triangles at load 10). Job
-/// indices carry the pass's number, so a worker that wakes late can never take a later pass's index for an
-/// earlier pass's job.
+/// Number of cores this process may run on (its CPU affinity on Linux, else the hardware threads; at least 1):
+/// what RenderSettings::threads = 0 and the builds' default thread count use.
+inline int hardwareThreads() {
+#ifdef __linux__
+  // The cores this process may run on: under mpirun (which binds each rank to a core by default), taskset or a
+  // container's cpuset this is fewer than the machine has, and more threads would only time-slice one core.
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) == 0) {
+    const int n = CPU_COUNT(&set);
+    if (n > 0) return n;
+  }
+#endif
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+/// A fixed set of threads for the duration of one build (or one object rebuild, one conversion); run() hands out job
+/// indices and returns when every job has finished. It waits for jobs, not for workers: a worker that has not woken up
+/// by the time the calling thread and the others have taken every job is not waited for (on a busy machine a
+/// descheduled worker would otherwise add a time slice to each of the build's many passes: 2.3 s instead of 0.3 s for
+/// 1M triangles at load 10). Job indices carry the pass's number, so a worker that wakes late can never take a later
+/// pass's index for an earlier pass's job.
 class WorkerPool {
  public:
   explicit WorkerPool(int threads) {
@@ -121,7 +141,8 @@ class WorkerPool {
 template <typename Fn>
 void forChunks(WorkerPool& pool, std::size_t n, std::size_t chunk, Fn&& fn) {
   const std::size_t pieces = (n + chunk - 1) / chunk;
-  pool.run(uint32_t(pieces), [&](uint32_t k) { fn(std::size_t(k) * chunk, std::min(n, (std::size_t(k) + 1) * chunk)); });
+  pool.run(uint32_t(pieces),
+           [&](uint32_t k) { fn(std::size_t(k) * chunk, std::min(n, (std::size_t(k) + 1) * chunk)); });
 }
 
 }  // namespace whitted

@@ -13,10 +13,6 @@
 #include <utility>
 #include <thread>
 
-#ifdef __linux__
-#include <sched.h>
-#endif
-
 namespace whitted {
 
 void FrameBuffer::resize(int w, int h) {
@@ -29,20 +25,6 @@ void FrameBuffer::resize(int w, int h) {
   truncation.assign(n, 0.0f);
   sampling.assign(n, 0.0f);
   samples.assign(n, 0);
-}
-
-int hardwareThreads() {
-#ifdef __linux__
-  // The cores this process may run on: under mpirun (which binds each rank to a core by default), taskset or a
-  // container's cpuset this is fewer than the machine has, and more threads would only time-slice one core.
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  if (sched_getaffinity(0, sizeof set, &set) == 0) {
-    const int n = CPU_COUNT(&set);
-    if (n > 0) return n;
-  }
-#endif
-  return std::max(1u, std::thread::hardware_concurrency());
 }
 
 namespace {

@@ -5,6 +5,7 @@
 
 #include "camera.h"
 #include "integrator.h"
+#include "parallel.h"  // hardwareThreads()
 
 #include <functional>
 #include <utility>
@@ -155,9 +156,5 @@ struct FrameStats {
 /// Renders scene (committed) through camera into fb (resized to width x height).
 FrameStats render(const Scene& scene, const Camera& camera, const RenderSettings& settings, int width, int height,
                   FrameBuffer& fb);
-
-/// Number of cores this process may run on (its CPU affinity on Linux, else the hardware threads; at least 1):
-/// what RenderSettings::threads = 0 uses.
-int hardwareThreads();
 
 }  // namespace whitted

@@ -1,6 +1,6 @@
 // Scene editing without rebuilds: attribute-only updates keep object BVHs, textures are replaced and freed in
 // place (ids reused, memory not growing).
-#include "renderer.h"  // hardwareThreads()
+#include "parallel.h"  // hardwareThreads()
 #include "scene.h"
 #include "scenes.h"
 

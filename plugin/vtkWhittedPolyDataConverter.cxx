@@ -19,8 +19,7 @@
 #include "vtkTexture.h"
 #include "vtkUnsignedCharArray.h"
 
-#include "parallel.h" // whitted::WorkerPool
-#include "renderer.h" // whitted::hardwareThreads
+#include "parallel.h" // whitted::WorkerPool, whitted::hardwareThreads
 
 #include <algorithm>
 #include <cmath>
