@@ -199,7 +199,8 @@ struct Subtree {
 /// area) until it has four. S (the split strategy) decides whether a candidate is a leaf and splits it.
 /// With spawn set, inner children smaller than kTaskMax become tasks (built later, each on one thread).
 template <class S>
-void buildSubtree(S& s, const typename S::Cand& root, Subtree& out, std::vector<typename S::Cand>* spawn) {
+void buildSubtree(S& s, const typename S::Cand& root, Subtree& out, std::vector<typename S::Cand>* spawn,
+                  const std::atomic<bool>* cancel) {
   using Cand = typename S::Cand;
   out.maxDepth = std::max(out.maxDepth, root.depth);
   out.nodes.push(emptyWideNode());
@@ -210,6 +211,8 @@ void buildSubtree(S& s, const typename S::Cand& root, Subtree& out, std::vector<
   std::vector<std::pair<Cand, uint32_t>> work;  // (inner candidate, its wide node)
   work.emplace_back(root, 0u);
   while (!work.empty()) {
+    // Cancelled: stop with the nodes so far (consistent, unfinished children are empty nodes); build() drops them
+    if (cancel && cancel->load(std::memory_order_relaxed)) return;
     const Cand cand = work.back().first;
     const uint32_t slot = work.back().second;
     work.pop_back();
@@ -624,11 +627,12 @@ struct MortonStrategy {
 /// in parallel chunks) on the calling thread, the subtrees below as parallel tasks, then concatenates the
 /// subtrees in a fixed order (node layout independent of the thread count). Returns the tree depth.
 template <class S>
-int buildAll(S& s, const typename S::Cand& root, WorkerPool& pool, BvhWideNodes& wide) {
+int buildAll(S& s, const typename S::Cand& root, WorkerPool& pool, BvhWideNodes& wide,
+             const std::atomic<bool>* cancel) {
   using Cand = typename S::Cand;
   Subtree top;
   std::vector<Cand> tasks;
-  buildSubtree(s, root, top, root.count() >= kTaskMax ? &tasks : nullptr);
+  buildSubtree(s, root, top, root.count() >= kTaskMax ? &tasks : nullptr, cancel);
   // Each task's nodes go to a region of one arena (a few large allocations fault far less than many small ones)
   std::vector<Subtree> sub(tasks.size());
   std::size_t arenaSize = 0;
@@ -641,7 +645,8 @@ int buildAll(S& s, const typename S::Cand& root, WorkerPool& pool, BvhWideNodes&
   for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
   std::stable_sort(order.begin(), order.end(),
                    [&](uint32_t a, uint32_t b) { return tasks[a].count() > tasks[b].count(); });
-  pool.run(uint32_t(tasks.size()), [&](uint32_t j) { buildSubtree(s, tasks[order[j]], sub[order[j]], nullptr); });
+  pool.run(uint32_t(tasks.size()),
+           [&](uint32_t j) { buildSubtree(s, tasks[order[j]], sub[order[j]], nullptr, cancel); });
   // Concatenate: top first, then the tasks in creation order (a child's index stays above its parent's)
   std::vector<uint32_t> base(tasks.size());
   std::size_t total = top.nodes.size();
@@ -858,7 +863,7 @@ BuiltTree buildMorton(const std::vector<Bounds3>& boxes, const std::vector<Vec3>
   MortonStrategy::Cand root{0, n, 1};
   s.decide(root);
   BuiltTree t;
-  t.depth = buildAll(s, root, pool, wide);
+  t.depth = buildAll(s, root, pool, wide, opt.cancel);
   // Node boxes: a refit over the primitives' boxes in leaf order
   const LeafOrderBoxes leafBox(boxes, primIndices.data(), anchor, pool);
   t.bounds = toBounds(Refitter<LeafOrderBoxes>{wide, leafBox}.all(pool), anchor);
@@ -907,7 +912,7 @@ BuiltTree buildSah(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& c
   }
   s.decide(root);
   BuiltTree t;
-  t.depth = buildAll(s, root, pool, wide);
+  t.depth = buildAll(s, root, pool, wide, opt.cancel);
   t.bounds = toBounds(root.box, anchor);
 
   // Leaf order
@@ -920,22 +925,14 @@ BuiltTree buildSah(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& c
 }  // namespace
 
 void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids, const BvhBuildOptions& opt) {
-  wide_.clear();
-  bounds_ = Bounds3();
-  primIndices_.clear();
-  depth_ = 0;
+  clear();
   if (boxes.empty()) return;
   // An exception (std::bad_alloc) leaves an empty tree, not a half-built one
   struct EmptyOnThrow {
     Bvh& bvh;
     const int uncaught = std::uncaught_exceptions();
     ~EmptyOnThrow() {
-      if (std::uncaught_exceptions() > uncaught) {
-        bvh.wide_.clear();
-        bvh.primIndices_.clear();
-        bvh.bounds_ = Bounds3();
-        bvh.depth_ = 0;
-      }
+      if (std::uncaught_exceptions() > uncaught) bvh.clear();
     }
   } emptyOnThrow{*this};
   const uint32_t n = uint32_t(boxes.size());
@@ -954,6 +951,7 @@ void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& cent
                           : buildSah(boxes, centroids, opt, anchor_, pool, wide_, primIndices_);
   depth_ = t.depth;
   bounds_ = t.bounds;
+  if (opt.cancel && opt.cancel->load(std::memory_order_relaxed)) clear();  // maybe unfinished: nothing is kept
 }
 
 void Bvh::refit(const std::vector<Bounds3>& boxes) {

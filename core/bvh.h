@@ -7,6 +7,7 @@
 
 #include <emmintrin.h>  // SSE2: part of every x86-64 CPU (Debian 12's baseline)
 
+#include <atomic>
 #include <cstddef>
 #include <vector>
 
@@ -49,6 +50,9 @@ struct BvhBuildOptions {
   /// Build threads; 0 = hardwareThreads(). The tree does not depend on it. Inputs below 32768 primitives are
   /// built on the calling thread whatever this says. Default 0.
   int threads = 0;
+  /// If given, polled between nodes: once it is set the build stops early and leaves an empty tree (a background
+  /// build whose work is no longer wanted). Default none.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 /// A ray prepared for the single-precision box tests of one tree: origin relative to the tree's anchor and
@@ -141,7 +145,8 @@ class Bvh {
   /// Wide traversal stack: each wide level pushes at most 3 entries more than it pops.
   static constexpr int kWideStackSize = 3 * kStackSize + 1;
 
-  /// Builds over boxes[i] with representative points centroids[i]. Empty input gives an empty tree.
+  /// Builds over boxes[i] with representative points centroids[i]. Empty input gives an empty tree, and so does a
+  /// build cancelled through BvhBuildOptions::cancel.
   void build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids, const BvhBuildOptions& opt = {});
   /// Recomputes every node box bottom-up from new primitive boxes (same count and order as the build's), keeping
   /// the topology: for primitives that moved but stay the same primitives (time steps, deformed meshes). Boxes are
@@ -287,6 +292,12 @@ class Bvh {
   }
 
  private:
+  void clear() {  // the empty tree
+    wide_.clear();
+    primIndices_.clear();
+    bounds_ = Bounds3();
+    depth_ = 0;
+  }
   /// Starts loading a child's node (both cache lines) or leaf primitives (first and last) while its siblings are
   /// visited: traversal of a large tree waits mostly on memory.
   void prefetchChild(uint32_t first, uint32_t count, const LeafData& leafData) const {

@@ -45,8 +45,11 @@ struct Scene::Upgrade {
   bool lowered = false;     // runs at idle priority (guarded by mutex)
   bool raised = false;      // taken back to normal priority: never lowered again (guarded by mutex)
   long tid = 0;             // its thread's id (Linux), for the nice fallback
+  bool raiseDenied = false;  // for tests: raise() fails (as without CAP_SYS_NICE)
   std::atomic<bool> finished{false};
-  int commits = 0;  ///< Commits since it started (the scene's thread only).
+  std::atomic<bool> cancel{false};  // stop building: the trees are not wanted (finished then stays false)
+  bool hasHook = false;             // a test's hook: the build is always waited for, never left to itself
+  int commits = 0;  ///< Commits since it (or the build it restarts) started (the scene's thread only).
   std::thread thread;
 
   void run(const std::vector<Object>& objects, const std::function<void()>& hook) {
@@ -65,10 +68,12 @@ struct Scene::Upgrade {
     BvhBuildOptions opt;
     opt.quality = BvhBuildQuality::Sah;
     opt.threads = 1;
+    opt.cancel = &cancel;
     for (std::size_t i = 0; i < items.size(); ++i) {
       items[i].tree.build(boxes[i], centroids[i], opt);
       boxes[i] = {};
       centroids[i] = {};
+      if (cancel) return;
     }
     if (hook) hook();
     finished = true;
@@ -92,6 +97,7 @@ struct Scene::Upgrade {
     std::lock_guard<std::mutex> lock(mutex);
     raised = true;
     if (!lowered || finished) return true;
+    if (raiseDenied) return false;
 #ifdef __linux__
     sched_param normal{};
     if (pthread_setschedparam(thread.native_handle(), SCHED_OTHER, &normal) != 0) return false;
@@ -114,8 +120,29 @@ Scene::UpgradeSlot& Scene::UpgradeSlot::operator=(UpgradeSlot&& o) noexcept {
   return *this;
 }
 Scene::UpgradeSlot::~UpgradeSlot() {
-  wait();
+  drop();
 }
+
+void Scene::UpgradeSlot::drop() {
+  // Its trees are not wanted any more: once it has read the scene, it is cancelled and left to stop at its next
+  // node on its own (an idle build may get no core for a long time on a busy machine; nothing waits for it). A
+  // test's hook may refer to the test's state: such a build is waited for
+  if (!job || !job->thread.joinable()) return;
+  if (job->finished || job->hasHook) return wait();
+  {
+    std::unique_lock<std::mutex> lock(job->mutex);
+    job->read.wait(lock, [u = job.get()] { return u->inputsRead; });
+  }
+  retire();
+}
+
+void Scene::UpgradeSlot::retire() {
+  // Lowered or cancelled after its read, the thread touches only its own data: it keeps the job alive itself
+  job->cancel = true;
+  job->thread.detach();
+  job.reset();
+}
+
 void Scene::UpgradeSlot::wait() {
   if (!job || !job->thread.joinable()) return;
   // Someone waits for it now: back to normal priority, or a busy machine could starve it indefinitely (where the
@@ -126,7 +153,7 @@ void Scene::UpgradeSlot::wait() {
 
 Scene::Scene() = default;
 Scene::~Scene() {
-  waitForUpgrades();  // before any member goes: the build may still read objects_
+  upgrade_.drop();  // before any member goes: the build may still read objects_
 }
 Scene::Scene(Scene&&) noexcept = default;
 Scene& Scene::operator=(Scene&&) noexcept = default;
@@ -140,29 +167,58 @@ void Scene::settleUpgrade() {
 
 void Scene::startUpgrades() {
   if (!backgroundUpgrade_ || upgrade_.job) return;
-  auto job = std::make_unique<Upgrade>();
+  auto job = std::make_shared<Upgrade>();
   for (uint32_t i = 0; i < objects_.size(); ++i) {
     const Object& o = objects_[i];
     if (o.alive && !o.dirty && !o.refitPending && o.builtQuality == BvhBuildQuality::Fast)
       job->items.push_back({i, o.treeVersion, {}, {}});
   }
   if (job->items.empty()) return;
-  Upgrade* u = job.get();
-  u->thread = std::thread([u, this, hook = upgradeHook_] { u->run(objects_, hook); });
+  launchUpgrade(std::move(job));
+}
+
+void Scene::launchUpgrade(std::shared_ptr<Upgrade> job) {
+  job->raiseDenied = upgradeRaiseDenied_;
+  job->hasHook = bool(upgradeHook_);
+  // The thread holds the job too, so a build left to itself (UpgradeSlot::retire) keeps its data until it stops
+  job->thread = std::thread([job, objects = &objects_, hook = upgradeHook_] { job->run(*objects, hook); });
   upgrade_.job = std::move(job);
+}
+
+bool Scene::upgradeFinished() const {
+  return upgrade_.job && upgrade_.job->finished;
 }
 
 void Scene::waitForUpgrades() {
   upgrade_.wait();
 }
 
-void Scene::pressUpgrade() {
+void Scene::pressUpgrade(CommitStats& st) {
   Upgrade* u = upgrade_.job.get();
   if (!u || u->finished || ++u->commits <= kUpgradeIdleCommits) return;
   // Frames keep coming and leave it no idle core: it continues at normal priority, sharing the cores with the
-  // frames, and a commit waits for it at the latest kUpgradeWaitCommits after it started (at once if the process
-  // may not raise its priority: the build then gets the core the waiting thread leaves)
-  if (u->commits >= kUpgradeWaitCommits || !u->raise()) upgrade_.wait();
+  // frames, and a commit waits for it at the latest kUpgradeWaitCommits after it started
+  if (u->commits >= kUpgradeWaitCommits) {
+    upgrade_.wait();
+    st.waitedForUpgrade = true;
+    return;
+  }
+  if (u->raise()) return;
+  // The process may not raise it (Linux: leaving SCHED_IDLE or lowering nice needs CAP_SYS_NICE, which an
+  // ordinary user lacks): stop it and build the objects still current again at normal priority. It stops at its
+  // next node, on the core this thread leaves while it waits
+  auto job = std::make_shared<Upgrade>();
+  job->commits = u->commits;
+  job->raised = true;  // never lowered
+  for (const Upgrade::Item& item : u->items) {
+    const Object& o = objects_[item.object];
+    if (o.alive && !o.dirty && !o.refitPending && o.treeVersion == item.version)
+      job->items.push_back({item.object, item.version, {}, {}});
+  }
+  // Not joined: it stops at its next node whenever it gets a core (it was lowered, so it has read the scene)
+  upgrade_.retire();
+  st.upgradeRestarted = true;
+  if (!job->items.empty()) launchUpgrade(std::move(job));
 }
 
 void Scene::adoptUpgrades(CommitStats& st) {
@@ -349,9 +405,9 @@ CommitStats Scene::commit() {
   CommitStats st;
   auto start = std::chrono::steady_clock::now();
   // A commit that rebuilds or refits nothing never waits for a background build reading the objects
+  pressUpgrade(st);
   if (std::any_of(objects_.begin(), objects_.end(), [](const Object& o) { return o.dirty || o.refitPending; }))
     settleUpgrade();
-  pressUpgrade();
   adoptUpgrades(st);
   buildObjects(st);
   if (topDirty_) buildTopLevel(st);

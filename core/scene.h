@@ -53,6 +53,11 @@ struct CommitStats {
   /// Objects whose fast tree was replaced in this commit by the SAH tree a background build finished (see
   /// Scene::setBackgroundUpgrade; counted in no other field).
   int objectsUpgraded = 0;
+  /// This commit waited for a background build (its kUpgradeWaitCommits-th commit; see setBackgroundUpgrade).
+  bool waitedForUpgrade = false;
+  /// This commit stopped a background build kept at idle priority and started it again at normal priority,
+  /// because the process may not raise a thread's priority (see Scene::setBackgroundUpgrade).
+  bool upgradeRestarted = false;
   bool topLevelRebuilt = false;
   double secondsBuild = 0.0;          ///< Wall time of all BVH builds in this commit.
   std::size_t invalidPrimitives = 0;  ///< Primitives skipped (non-finite or degenerate) in rebuilt objects.
@@ -110,7 +115,9 @@ class Scene {
   /// the swap, frames trace the complete fast tree. When frames come back to back, no core is idle: from the
   /// (kUpgradeIdleCommits + 1)-th commit after startUpgrades on, the build runs at normal priority (sharing the
   /// cores with the frames), and the kUpgradeWaitCommits-th commit waits for it, so an upgrade never stays pending
-  /// for ever (where the process may not raise a thread's priority, the first of those commits waits). Traversal
+  /// for ever. Where the process may not raise a thread's priority (Linux without CAP_SYS_NICE: an ordinary user),
+  /// the first of those commits stops the idle build and starts it again at normal priority instead (frames back
+  /// to back left the idle build almost no time, so little work is lost; CommitStats::upgradeRestarted). Traversal
   /// is exact with either tree: images do not change.
   void setBackgroundUpgrade(bool on) { backgroundUpgrade_ = on; }
   bool backgroundUpgrade() const { return backgroundUpgrade_; }
@@ -129,9 +136,14 @@ class Scene {
   void waitForUpgrades();
   /// A background build is running or finished and not swapped in yet.
   bool upgradePending() const { return upgrade_.job != nullptr; }
+  /// A background build has finished; the next commit() swaps it in.
+  bool upgradeFinished() const;
   /// For tests: called on the background thread once its trees are built, before it reports them finished; with
   /// a hook the build keeps normal priority (a test polling for it on a busy machine would starve an idle one).
   void setUpgradeHookForTesting(std::function<void()> hook) { upgradeHook_ = std::move(hook); }
+  /// For tests: background builds behave as where the process may not raise a thread's priority (they are
+  /// lowered, and raising them fails), whatever this process may do.
+  void setUpgradeRaiseDeniedForTesting(bool deny) { upgradeRaiseDenied_ = deny; }
   /// The object as it stands (geometry in leaf order once committed, BVH, leaf order), e.g. to keep a copy.
   const Object& object(uint32_t object) const { return objects_[object]; }
   /// Moves an object out of the scene whole (geometry, BVH, leaf order: a committed one stays committed), leaving
@@ -266,15 +278,19 @@ class Scene {
   /// Its handle: moving it first waits for the builds on both sides (declared first among the members, so a
   /// moved scene's objects move only after that).
   struct UpgradeSlot {
-    std::unique_ptr<Upgrade> job;
+    std::shared_ptr<Upgrade> job;
     UpgradeSlot();
     UpgradeSlot(UpgradeSlot&& o) noexcept;
     UpgradeSlot& operator=(UpgradeSlot&& o) noexcept;
     ~UpgradeSlot();
-    void wait();  ///< Joins the build's thread if it runs.
+    void wait();    ///< Joins the build's thread if it runs.
+    void drop();    ///< The build's trees are not wanted: waits for its read of the scene, then retires it.
+    void retire();  ///< Cancels the build (after its read) and leaves its thread to stop on its own; job empty.
   };
   void settleUpgrade();                 ///< Before objects_ changes: waits until a running build has read it.
-  void pressUpgrade();                  ///< Counts a commit for a running build: raises or waits for it in time.
+  /// Counts a commit for a running build: raises it, restarts it at normal priority or waits for it, in time.
+  void pressUpgrade(CommitStats& st);
+  void launchUpgrade(std::shared_ptr<Upgrade> job);  ///< Starts job's thread and makes it the running build.
   void adoptUpgrades(CommitStats& st);  ///< Swaps in a finished background build's trees that are still current.
 
   // The steps of commit(), in order
@@ -298,6 +314,7 @@ class Scene {
   bool backgroundUpgrade_ = false;
   uint64_t treeCounter_ = 0;  ///< Last Object::treeVersion given.
   std::function<void()> upgradeHook_;
+  bool upgradeRaiseDenied_ = false;
   Features features_;
   Bounds3 bounds_;
   float localBound_ = 1.0f;

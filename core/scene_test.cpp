@@ -14,6 +14,7 @@
 #include <future>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <random>
 #include <thread>
 #ifdef __linux__
@@ -442,6 +443,23 @@ TEST(Scene, BackgroundUpgradeSwapsInTheSahTreeOnceBuilt) {
   EXPECT_FALSE(s.upgradePending());
 }
 
+/// A spinning thread on every core while it lives: frames back to back, as a background build sees them.
+struct BusyCores {
+  std::atomic<bool> stop{false};
+  std::vector<std::thread> threads;
+  BusyCores() {
+    for (int i = 0; i < hardwareThreads(); ++i)
+      threads.emplace_back([this] {
+        while (!stop.load(std::memory_order_relaxed)) {
+        }
+      });
+  }
+  ~BusyCores() {
+    stop = true;
+    for (std::thread& t : threads) t.join();
+  }
+};
+
 // Frames back to back leave the idle-priority build no idle core (here: a spinning thread per core): it is raised
 // to normal priority after kUpgradeIdleCommits commits, and swapped in at the latest by the kUpgradeWaitCommits-th
 // commit, never left pending for ever.
@@ -454,13 +472,7 @@ TEST(Scene, BackgroundUpgradeLandsWhileFramesKeepComing) {
   const uint32_t o = addCommitted(s, mesh);
   ASSERT_EQ(s.stats().fastTrees, 1u);
 
-  std::atomic<bool> stop{false};
-  std::vector<std::thread> busy;
-  for (int i = 0; i < hardwareThreads(); ++i)
-    busy.emplace_back([&stop] {
-      while (!stop.load(std::memory_order_relaxed)) {
-      }
-    });
+  std::optional<BusyCores> busy(std::in_place);
   s.startUpgrades();
   // A scene change waits until the build has read its inputs, by when it has lowered its priority
   s.addSpheres(SphereSet{{Vec3(5.0, 0.0, 0.0)}, {0.5}, {}});
@@ -469,13 +481,80 @@ TEST(Scene, BackgroundUpgradeLandsWhileFramesKeepComing) {
     upgraded += s.commit().objectsUpgraded;
     at = commit;
   }
-  stop = true;
-  for (std::thread& t : busy) t.join();
+  busy.reset();
   EXPECT_EQ(upgraded, 1) << "still pending after " << at << " commits";
   EXPECT_FALSE(s.upgradePending());
   EXPECT_EQ(s.stats().fastTrees, 0u);
   EXPECT_EQ(s.object(o).bvh.primIndices(), ref.object(ro).bvh.primIndices());
   expectSameHits(s, ref);
+}
+
+// Where the process may not raise the idle build's priority (an ordinary user: no CAP_SYS_NICE), frames back to back
+// must not wait for it at the (kUpgradeIdleCommits + 1)-th commit: the build starts again at normal priority and
+// lands while commits keep coming, before the kUpgradeWaitCommits-th would wait for it.
+TEST(Scene, BackgroundUpgradeRestartsWhereItsPriorityCannotBeRaised) {
+  const TriangleMesh mesh = upgradeMesh(Vec3(0.0));
+  Scene ref;
+  const uint32_t ro = addCommitted(ref, mesh);
+  Scene s;
+  s.setBackgroundUpgrade(true);
+  s.setUpgradeRaiseDeniedForTesting(true);
+  const uint32_t o = addCommitted(s, mesh);
+  ASSERT_EQ(s.stats().fastTrees, 1u);
+
+  std::optional<BusyCores> busy(std::in_place);  // frames: the idle build makes (almost) no progress
+  s.startUpgrades();
+  s.addSpheres(SphereSet{{Vec3(5.0, 0.0, 0.0)}, {0.5}, {}});  // waits until the build read its inputs and lowered
+  int upgraded = 0, restartedAt = 0, waitedAt = 0, at = 0;
+  for (int commit = 1; commit <= Scene::kUpgradeWaitCommits && upgraded == 0; ++commit) {
+    const CommitStats st = s.commit();
+    upgraded += st.objectsUpgraded;
+    if (st.upgradeRestarted) restartedAt = commit;
+    if (st.waitedForUpgrade) waitedAt = commit;
+    at = commit;
+    if (restartedAt) {  // the restarted build shares the cores with the busy threads: it finishes (up to a minute)
+      for (int ms = 0; ms < 60000 && s.upgradePending() && !s.upgradeFinished(); ms += 10)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
+  busy.reset();
+  EXPECT_EQ(restartedAt, Scene::kUpgradeIdleCommits + 1);
+  EXPECT_EQ(waitedAt, 0) << "a commit waited for the build";
+  EXPECT_EQ(upgraded, 1) << "still pending after " << at << " commits";
+  EXPECT_EQ(at, restartedAt + 1);  // finished at normal priority while the busy threads ran
+  EXPECT_FALSE(s.upgradePending());
+  EXPECT_EQ(s.stats().fastTrees, 0u);
+  EXPECT_EQ(s.object(o).bvh.primIndices(), ref.object(ro).bvh.primIndices());
+  expectSameHits(s, ref);
+}
+
+// A cancelled build leaves an empty tree (here cancelled before it starts), with either builder; the same options
+// without the flag build the whole tree.
+TEST(Bvh, CancelledBuildLeavesAnEmptyTree) {
+  const TriangleMesh mesh = upgradeMesh(Vec3(0.0));
+  std::vector<Bounds3> boxes;
+  std::vector<Vec3> centroids;
+  for (const auto& t : mesh.triangles) {
+    Bounds3 b;
+    for (int k = 0; k < 3; ++k) b.extend(mesh.positions[t[k]]);
+    if (!isFinite(b.lo) || !isFinite(b.hi)) continue;
+    boxes.push_back(b);
+    centroids.push_back(b.center());
+  }
+  for (BvhBuildQuality q : {BvhBuildQuality::Sah, BvhBuildQuality::Fast}) {
+    std::atomic<bool> cancel{true};
+    BvhBuildOptions opt;
+    opt.quality = q;
+    opt.cancel = &cancel;
+    Bvh bvh;
+    bvh.build(boxes, centroids, opt);
+    EXPECT_TRUE(bvh.empty());
+    EXPECT_TRUE(bvh.primIndices().empty());
+    cancel = false;
+    bvh.build(boxes, centroids, opt);
+    EXPECT_FALSE(bvh.empty());
+    EXPECT_EQ(bvh.primIndices().size(), boxes.size());
+  }
 }
 
 #ifdef __linux__
