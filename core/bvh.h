@@ -64,6 +64,7 @@ struct BoxRay {
   __m128 orgNear[3], orgFar[3], invNear[3], invFar[3];
   int nearBound[3], farBound[3];  ///< Index into BvhWideNode::b of the near / far plane per axis.
   double tScale = 1.0;            ///< Box-test distances are t * tScale.
+  BoxRay() = default;  ///< Unset (the lanes of a packet's inactive rays).
   BoxRay(const Ray& r, const Vec3& anchor) {
     // Power-of-two scale bringing the largest direction component into [1, 2) (exact, keeps t' in float range)
     // (exponent bits of the largest component; callers pass finite directions)
@@ -272,6 +273,99 @@ class Bvh {
   done:
     if (nodesVisited) *nodesVisited += visited;
     return hitAny;
+  }
+
+  /// Any-hit walk of up to four rays at once (shadow packets): rays[i] takes part when bit i of active is set.
+  /// leaf(first, count, rays) tests primitive slots [first, first+count) for the rays of the bit mask rays and
+  /// returns the mask of those it has finished (blocked, or handed elsewhere): a finished ray visits nothing more.
+  /// Returns the mask of finished rays. Each ray keeps its own conservative box test (BoxRay, the same rounding as
+  /// traverse()), so a ray enters every child that its single-ray walk would enter; only the order of the visits
+  /// differs, which does not change any-hit results when the leaf tests are exact. nodesVisited (if given) counts
+  /// visited wide nodes once per packet.
+  /// Performance note: a node's boxes are loaded once for all its rays (single-ray traversal waits on memory);
+  /// each ray's four-box test is the single-ray one, and the children entered by any ray carry the mask of rays
+  /// that entered them.
+  template <typename LeafFn>
+  unsigned traverseAny4(const Ray* rays, unsigned active, LeafFn&& leaf, uint64_t* nodesVisited = nullptr,
+                        LeafData leafData = {}) const {
+    if (wide_.empty()) return 0;
+    for (int i = 0; i < 4; ++i)
+      if ((active >> i & 1) && (!isFinite(rays[i].origin) || !isFinite(rays[i].dir))) active &= ~(1u << i);
+    if (active == 0) return 0;
+    const BvhWideNode& root = wide_[0];
+    if (wide_.size() == 1 && root.count[1] == BvhWideNode::kEmpty && root.count[0] != 0 &&
+        root.count[0] != BvhWideNode::kEmpty) {  // one-leaf tree: see traverse()
+      if (nodesVisited) ++*nodesVisited;
+      return leaf(root.first[0], root.count[0], active) & active;
+    }
+    BoxRay br[4];
+    __m128 tMinV[4], tMaxV[4];
+    for (int i = 0; i < 4; ++i)
+      if (active >> i & 1) {
+        br[i] = BoxRay(rays[i], anchor_);
+        tMinV[i] = _mm_set1_ps(floatBelow(rays[i].tMin * br[i].tScale));
+        tMaxV[i] = _mm_set1_ps(floatAbove(rays[i].tMax * br[i].tScale));
+      }
+    struct Entry {
+      uint32_t first, count;
+      unsigned rays;
+    };
+    Entry stack[kWideStackSize];
+    int sp = 0;
+    uint64_t visited = 0;
+    unsigned finished = 0;
+    Entry cur{0, 0, active};
+    const __m128 inf = _mm_set1_ps(std::numeric_limits<float>::infinity());
+    for (;;) {
+      ++visited;
+      if (cur.count > 0) {
+        finished |= leaf(cur.first, cur.count, cur.rays) & cur.rays;
+        if (finished == active) break;
+      } else {
+        const BvhWideNode& n = wide_[cur.first];
+        const __m128 used = _mm_cmplt_ps(_mm_load_ps(n.b[0]), inf);
+        // Per child, the rays that enter it (bit i of enter[c]): each ray's slab test as in traverse()
+        unsigned enter[4] = {0, 0, 0, 0};
+        for (unsigned m = cur.rays; m; m &= m - 1) {
+          const int i = __builtin_ctz(m);
+          const BoxRay& r = br[i];
+          __m128 t0 = tMinV[i], t1 = tMaxV[i];
+          for (int a = 0; a < 3; ++a) {
+            const __m128 lo = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.nearBound[a]]), r.orgNear[a]), r.invNear[a]);
+            const __m128 hi = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.farBound[a]]), r.orgFar[a]), r.invFar[a]);
+            t0 = _mm_max_ps(t0, lo);
+            t1 = _mm_min_ps(hi, t1);
+          }
+          const unsigned hit = unsigned(_mm_movemask_ps(_mm_and_ps(_mm_cmple_ps(t0, t1), used)));
+          for (int c = 0; c < 4; ++c) enter[c] |= (hit >> c & 1u) << i;
+        }
+        // The first entered child is visited next, the others pushed
+        int next = -1;
+        for (int c = 0; c < 4; ++c) {
+          if (enter[c] == 0) continue;
+          if (next < 0) {
+            next = c;
+          } else {
+            stack[sp++] = Entry{n.first[c], n.count[c], enter[c]};
+            prefetchChild(n.first[c], n.count[c], leafData);
+          }
+        }
+        if (next >= 0) {
+          cur = Entry{n.first[next], n.count[next], enter[next]};
+          prefetchChild(cur.first, cur.count, leafData);
+          continue;
+        }
+      }
+      // Next entry from the stack, without the rays finished since it was pushed
+      do {
+        if (sp == 0) goto done;
+        cur = stack[--sp];
+        cur.rays &= ~finished;
+      } while (cur.rays == 0);
+    }
+  done:
+    if (nodesVisited) *nodesVisited += visited;
+    return finished;
   }
 
   /// The point node coordinates are relative to: b[k][c] + anchor[k % 3] bounds child c (conservatively).
