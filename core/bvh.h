@@ -126,6 +126,77 @@ struct BoxRay {
   }
 };
 
+/// One conservative box test for a packet of rays (Bvh::traverseAny4): per axis the range of the rays' rounded
+/// origins and reciprocals (BoxRay), usable when the rays share their direction signs and scale and all are finite.
+/// The rounding of a float subtraction and product is monotonic, so the smallest computed near distance over the
+/// ranges' corners is at most every ray's computed near distance (itself at most the exact one), and the largest
+/// far distance at least every ray's far distance: a child any ray's own test enters is entered by the joint test.
+/// Per axis with a positive direction the near distance (lo - o) * inv is smallest at the largest origin, the far
+/// distance at the smallest (mirrored for a negative direction); the reciprocal's corner depends on the sign of
+/// the difference, so both are taken.
+struct JointBoxRay {
+  bool valid = false;
+  __m128 orgNear[3], orgFar[3], invLo[3], invHi[3], invFarLo[3], invFarHi[3], tMin, tMax;
+  int nearBound[3], farBound[3];
+  /// maxSpread: the largest origin spread (per axis, in the tree's units) for which the joint test is used; rays
+  /// further apart (neighbouring pixels on different surfaces, a block across a silhouette) enter many more
+  /// children together than alone, and keep their own tests. Reciprocals spreading by more than 1/8 of their
+  /// magnitude (a point light close to the surface) likewise.
+  JointBoxRay(const BoxRay* br, const __m128* tMinV, const __m128* tMaxV, unsigned active, float maxSpread) {
+    const int f = __builtin_ctz(active);
+    for (unsigned m = active; m; m &= m - 1) {
+      const int i = __builtin_ctz(m);
+      if (br[i].tScale != br[f].tScale) return;
+      for (int a = 0; a < 3; ++a)
+        if (br[i].nearBound[a] != br[f].nearBound[a]) return;
+    }
+    const __m128 finiteMax = _mm_set1_ps(std::numeric_limits<float>::max());
+    const __m128 signBit = _mm_set1_ps(-0.0f);
+    tMin = tMinV[f];
+    tMax = tMaxV[f];
+    for (int a = 0; a < 3; ++a) {
+      const bool negative = br[f].nearBound[a] >= 3;
+      __m128 oNearLo = br[f].orgNear[a], oNearHi = oNearLo, oFarLo = br[f].orgFar[a], oFarHi = oFarLo;
+      __m128 nLo = br[f].invNear[a], nHi = nLo, fLo = br[f].invFar[a], fHi = fLo;
+      __m128 finite = _mm_set1_ps(-1.0f);  // all ones while every value is finite
+      for (unsigned m = active; m; m &= m - 1) {
+        const BoxRay& r = br[__builtin_ctz(m)];
+        oNearLo = _mm_min_ps(oNearLo, r.orgNear[a]), oNearHi = _mm_max_ps(oNearHi, r.orgNear[a]);
+        oFarLo = _mm_min_ps(oFarLo, r.orgFar[a]), oFarHi = _mm_max_ps(oFarHi, r.orgFar[a]);
+        nLo = _mm_min_ps(nLo, r.invNear[a]), nHi = _mm_max_ps(nHi, r.invNear[a]);
+        fLo = _mm_min_ps(fLo, r.invFar[a]), fHi = _mm_max_ps(fHi, r.invFar[a]);
+        for (__m128 v : {r.orgNear[a], r.orgFar[a], r.invNear[a], r.invFar[a]})
+          finite = _mm_and_ps(finite, _mm_cmple_ps(_mm_andnot_ps(signBit, v), finiteMax));
+      }
+      if (_mm_movemask_ps(finite) != 0xf) return;  // infinite or NaN values: the rays' own tests
+      const float spread = std::max(_mm_cvtss_f32(_mm_sub_ps(oNearHi, oNearLo)), _mm_cvtss_f32(_mm_sub_ps(oFarHi, oFarLo)));
+      const float invSpread = _mm_cvtss_f32(_mm_max_ps(_mm_sub_ps(nHi, nLo), _mm_sub_ps(fHi, fLo)));
+      if (!(spread <= maxSpread) || !(invSpread <= 0.125f * std::abs(_mm_cvtss_f32(nLo)))) return;
+      orgNear[a] = negative ? oNearLo : oNearHi;
+      orgFar[a] = negative ? oFarHi : oFarLo;
+      invLo[a] = nLo, invHi[a] = nHi, invFarLo[a] = fLo, invFarHi[a] = fHi;
+      nearBound[a] = br[f].nearBound[a];
+      farBound[a] = br[f].farBound[a];
+    }
+    for (unsigned m = active; m; m &= m - 1) {
+      tMin = _mm_min_ps(tMin, tMinV[__builtin_ctz(m)]);
+      tMax = _mm_max_ps(tMax, tMaxV[__builtin_ctz(m)]);
+    }
+    valid = true;
+  }
+  /// Mask of the children of n the joint test enters (empty children not excluded).
+  unsigned test(const BvhWideNode& n) const {
+    __m128 t0 = tMin, t1 = tMax;
+    for (int a = 0; a < 3; ++a) {
+      const __m128 dn = _mm_sub_ps(_mm_load_ps(n.b[nearBound[a]]), orgNear[a]);
+      const __m128 df = _mm_sub_ps(_mm_load_ps(n.b[farBound[a]]), orgFar[a]);
+      t0 = _mm_max_ps(t0, _mm_min_ps(_mm_mul_ps(dn, invLo[a]), _mm_mul_ps(dn, invHi[a])));
+      t1 = _mm_min_ps(t1, _mm_max_ps(_mm_mul_ps(df, invFarLo[a]), _mm_mul_ps(df, invFarHi[a])));
+    }
+    return unsigned(_mm_movemask_ps(_mm_cmple_ps(t0, t1)));
+  }
+};
+
 /// Where a tree's leaf primitives live, when they are stored in leaf order (slot k at base + k * stride): lets the
 /// traversal prefetch a leaf's primitives when it decides to visit it. Default: none.
 struct LeafData {
@@ -141,6 +212,9 @@ class Bvh {
   static constexpr int kSahDepthLimit = 64;
   /// Wide traversal stack: each wide level pushes at most 3 entries more than it pops.
   static constexpr int kWideStackSize = 3 * kStackSize + 1;
+  /// traverseAny4 tests a packet's rays together while their origins lie within this share of the tree's extent
+  /// (per axis); farther apart, each ray tests every node.
+  static constexpr double kJointSpread = 1.0 / 64.0;
 
   /// Builds over boxes[i] with representative points centroids[i]. Empty input gives an empty tree.
   void build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids, const BvhBuildOptions& opt = {});
@@ -306,6 +380,9 @@ class Bvh {
         tMinV[i] = _mm_set1_ps(floatBelow(rays[i].tMin * br[i].tScale));
         tMaxV[i] = _mm_set1_ps(floatAbove(rays[i].tMax * br[i].tScale));
       }
+    const Vec3 extent = bounds_.hi - bounds_.lo;
+    const JointBoxRay joint(br, tMinV, tMaxV, active,
+                            float(std::max(extent.x, std::max(extent.y, extent.z)) * kJointSpread));
     struct Entry {
       uint32_t first, count;
       unsigned rays;
@@ -324,9 +401,24 @@ class Bvh {
       } else {
         const BvhWideNode& n = wide_[cur.first];
         const __m128 used = _mm_cmplt_ps(_mm_load_ps(n.b[0]), inf);
-        // Per child, the rays that enter it (bit i of enter[c]): each ray's slab test as in traverse()
+        // Per child, the rays that enter it (bit i of enter[c]). With a joint test, its inner children take all
+        // the node's rays and only leaf children are tested ray by ray (a leaf's primitive tests cost more than a
+        // box test); else each ray's slab test as in traverse()
         unsigned enter[4] = {0, 0, 0, 0};
-        for (unsigned m = cur.rays; m; m &= m - 1) {
+        unsigned perRay = cur.rays, children = 0xfu;  // rays and children left to the per-ray tests
+        if (joint.valid && (cur.rays & (cur.rays - 1))) {
+          const unsigned hit = joint.test(n) & unsigned(_mm_movemask_ps(used));
+          children = 0;
+          for (int c = 0; c < 4; ++c) {
+            if (!(hit >> c & 1)) continue;
+            if (n.count[c] == 0)
+              enter[c] = cur.rays;
+            else
+              children |= 1u << c;
+          }
+          if (children == 0) perRay = 0;
+        }
+        for (unsigned m = perRay; m; m &= m - 1) {
           const int i = __builtin_ctz(m);
           const BoxRay& r = br[i];
           __m128 t0 = tMinV[i], t1 = tMaxV[i];
@@ -336,7 +428,7 @@ class Bvh {
             t0 = _mm_max_ps(t0, lo);
             t1 = _mm_min_ps(hi, t1);
           }
-          const unsigned hit = unsigned(_mm_movemask_ps(_mm_and_ps(_mm_cmple_ps(t0, t1), used)));
+          const unsigned hit = unsigned(_mm_movemask_ps(_mm_and_ps(_mm_cmple_ps(t0, t1), used))) & children;
           for (int c = 0; c < 4; ++c) enter[c] |= (hit >> c & 1u) << i;
         }
         // The first entered child is visited next, the others pushed

@@ -72,9 +72,21 @@ struct Integrator::FirstHit {
   Hit hit;
   HitFrame frame;
   unsigned lights = 0;  ///< Bit j: shadow ray j recorded (ray[j]) and answered (t[j], cut[j]).
-  Ray ray[kPacketLights];
-  Color t[kPacketLights];
-  bool cut[kPacketLights];
+  // Performance note: the arrays in a union, left unconstructed (Ray's members have initialisers): a block would
+  // otherwise write ~1 KB per camera ray before it is used
+  union Slots {
+    Slots() {}
+    struct {
+      Ray ray[kPacketLights];
+      Color t[kPacketLights];
+      bool cut[kPacketLights];
+    } s;
+  } slots;
+  Ray& ray(int j) { return slots.s.ray[j]; }
+  Color& t(int j) { return slots.s.t[j]; }
+  bool& cut(int j) { return slots.s.cut[j]; }
+  const Color& t(int j) const { return slots.s.t[j]; }
+  bool cut(int j) const { return slots.s.cut[j]; }
 };
 
 /// Shadow rays traced one by one (Scene::transmittance).
@@ -92,7 +104,7 @@ struct Integrator::CollectShadows {
   FirstHit& fh;
   Color operator()(int light, const Ray& sr, float, RayStats&, bool&) const {
     if (light < kPacketLights) {
-      fh.ray[light] = sr;
+      fh.ray(light) = sr;
       fh.lights |= 1u << light;
     }
     return Color(1.0f);
@@ -106,8 +118,8 @@ struct Integrator::AnsweredShadows {
   const FirstHit& fh;
   Color operator()(int light, const Ray& sr, float cutoff, RayStats& st, bool& cut) const {
     if (light < kPacketLights && (fh.lights >> light & 1)) {
-      cut = fh.cut[light];
-      return fh.t[light];
+      cut = fh.cut(light);
+      return fh.t(light);
     }
     return scene.transmittance(sr, cutoff, &st.nodesVisited, &cut);
   }
@@ -158,7 +170,7 @@ void Integrator::traceBlock(const Ray* rays, int n, RayStats* stats, const Color
     Ray packet[kBlock];
     for (int i = 0; i < n; ++i)
       if (fh[i].lights >> j & 1) {
-        packet[i] = fh[i].ray[j];
+        packet[i] = fh[i].ray(j);
         active |= 1u << i;
       }
     if (active == 0) continue;
@@ -166,11 +178,11 @@ void Integrator::traceBlock(const Ray* rays, int n, RayStats* stats, const Color
     if (active & (active - 1)) single = scene_.occludedPacket(packet, active, blocked, &stats[0].nodesVisited);
     for (unsigned m = active; m; m &= m - 1) {
       const int i = __builtin_ctz(m);
-      fh[i].cut[j] = false;
+      fh[i].cut(j) = false;
       if (single >> i & 1)
-        fh[i].t[j] = scene_.transmittance(packet[i], s_.contributionThreshold, &stats[i].nodesVisited, &fh[i].cut[j]);
+        fh[i].t(j) = scene_.transmittance(packet[i], s_.contributionThreshold, &stats[i].nodesVisited, &fh[i].cut(j));
       else
-        fh[i].t[j] = Color(blocked >> i & 1 ? 0.0f : 1.0f);
+        fh[i].t(j) = Color(blocked >> i & 1 ? 0.0f : 1.0f);
     }
   }
   // Shading and everything after the first hit, per ray
