@@ -105,7 +105,8 @@ class Integrator {
   /// screenBackground[i]) and stats[i] gets the same ray counts (its nodesVisited differs). The shadow rays of
   /// the first hits toward each of the first kPacketLights lights are cast as one packet (Scene::occludedPacket),
   /// which loads each BVH node once for the block's rays; everything after the first hit is traced per ray.
-  /// With IntegratorSettings::packets off, the same as calling trace() for each ray.
+  /// With IntegratorSettings::packets off, or in a scene with transmissive surfaces, the same as calling trace()
+  /// for each ray.
   void traceBlock(const Ray* rays, int n, RayStats* stats, const Color* screenBackground, Sample* out) const;
   static constexpr int kBlock = 4;
   static constexpr int kPacketLights = 8;
