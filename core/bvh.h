@@ -64,7 +64,7 @@ struct BoxRay {
   __m128 orgNear[3], orgFar[3], invNear[3], invFar[3];
   int nearBound[3], farBound[3];  ///< Index into BvhWideNode::b of the near / far plane per axis.
   double tScale = 1.0;            ///< Box-test distances are t * tScale.
-  BoxRay() = default;  ///< Unset (the lanes of a packet's inactive rays).
+  BoxRay() = default;             ///< Unset (the lanes of a packet's inactive rays).
   BoxRay(const Ray& r, const Vec3& anchor) {
     // Power-of-two scale bringing the largest direction component into [1, 2) (exact, keeps t' in float range)
     // (exponent bits of the largest component; callers pass finite directions)
@@ -169,7 +169,8 @@ struct JointBoxRay {
           finite = _mm_and_ps(finite, _mm_cmple_ps(_mm_andnot_ps(signBit, v), finiteMax));
       }
       if (_mm_movemask_ps(finite) != 0xf) return;  // infinite or NaN values: the rays' own tests
-      const float spread = std::max(_mm_cvtss_f32(_mm_sub_ps(oNearHi, oNearLo)), _mm_cvtss_f32(_mm_sub_ps(oFarHi, oFarLo)));
+      const float spread =
+          std::max(_mm_cvtss_f32(_mm_sub_ps(oNearHi, oNearLo)), _mm_cvtss_f32(_mm_sub_ps(oFarHi, oFarLo)));
       const float invSpread = _mm_cvtss_f32(_mm_max_ps(_mm_sub_ps(nHi, nLo), _mm_sub_ps(fHi, fLo)));
       if (!(spread <= maxSpread) || !(invSpread <= 0.125f * std::abs(_mm_cvtss_f32(nLo)))) return;
       orgNear[a] = negative ? oNearLo : oNearHi;

@@ -54,7 +54,7 @@ struct Integrator::HitFrame {
   SurfacePoint sp;
   Vec3 d, nf, ngf, v;  ///< Ray direction (unit); shading and geometric normals facing the ray; view vector.
   bool backFace = false;
-  double pathHere = 0.0;  ///< Path length to the hit (edge footprints).
+  double pathHere = 0.0;           ///< Path length to the hit (edge footprints).
   const Material* base = nullptr;  ///< The hit's material (the back material on back faces).
   bool onEdge = false;             ///< Within an edge: edge holds the edge material.
   // Constructed only on edge pixels. Performance note: a union, not std::optional, whose storage the compiler
@@ -141,8 +141,7 @@ Sample Integrator::trace(const Ray& ray, RayStats& stats, const Color& screenBac
   return finishPath(c, tHit, first, ps, stats);
 }
 
-void Integrator::traceBlock(const Ray* rays, int n, RayStats* stats, const Color* screenBackground,
-                            Sample* out) const {
+void Integrator::traceBlock(const Ray* rays, int n, RayStats* stats, const Color* screenBackground, Sample* out) const {
   // Scenes with transmissive surfaces trace single rays: there a packet's blocked rays go again through
   // transmittance() (Scene::occludedPacket), which made the classic scene's frame 6% slower
   if (!s_.packets || !shadows_ || n < 2 || scene_.features().transmissive) {

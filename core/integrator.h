@@ -133,8 +133,8 @@ class Integrator {
   /// them; CollectShadows only records them, for a packet, and the colour it returns is meaningless;
   /// AnsweredShadows takes the packet's answers).
   template <bool Shadows, typename ShadowFn>
-  Color shadeLocal(const SurfacePoint& sp, const Material& m, const Vec3& n, const Vec3& v, bool inside,
-                   RayStats& st, Color& highlight, float& shadowCut, ShadowFn& shadows) const;
+  Color shadeLocal(const SurfacePoint& sp, const Material& m, const Vec3& n, const Vec3& v, bool inside, RayStats& st,
+                   Color& highlight, float& shadowCut, ShadowFn& shadows) const;
   /// trace()'s start and end around the kernel call.
   void startPath(const Ray& ray, const Color& screenBackground, PathState& ps) const;
   Sample finishPath(const Color& color, double tHit, const Vec3& first, const PathState& ps, RayStats& stats) const;

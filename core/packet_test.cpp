@@ -1,6 +1,8 @@
 // Shadow packets (Scene::occludedPacket, Integrator::traceBlock): the same image, ray counts and error bounds as
 // single shadow rays, for opaque and translucent occluders, instances (transformed, several levels of the top
-// tree), spheres and tubes, point, spot and directional lights, one and several samples per pixel.
+// tree), spheres and tubes, point, spot and directional lights, one and several samples per pixel. (Frames of
+// scenes with translucent surfaces trace single rays, see traceBlock: their frames check that gate; the packet
+// answers and hand-overs there are checked ray by ray.)
 #include "renderer.h"
 #include "scenes.h"
 
