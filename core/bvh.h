@@ -68,6 +68,7 @@ struct BoxRay {
   __m128 orgNear[3], orgFar[3], invNear[3], invFar[3];
   int nearBound[3], farBound[3];  ///< Index into BvhWideNode::b of the near / far plane per axis.
   double tScale = 1.0;            ///< Box-test distances are t * tScale.
+  BoxRay() = default;             ///< Unset (the lanes of a packet's inactive rays).
   BoxRay(const Ray& r, const Vec3& anchor) {
     // Power-of-two scale bringing the largest direction component into [1, 2) (exact, keeps t' in float range)
     // (exponent bits of the largest component; callers pass finite directions)
@@ -129,6 +130,78 @@ struct BoxRay {
   }
 };
 
+/// One conservative box test for a packet of rays (Bvh::traverseAny4): per axis the range of the rays' rounded
+/// origins and reciprocals (BoxRay), usable when the rays share their direction signs and scale and all are finite.
+/// The rounding of a float subtraction and product is monotonic, so the smallest computed near distance over the
+/// ranges' corners is at most every ray's computed near distance (itself at most the exact one), and the largest
+/// far distance at least every ray's far distance: a child any ray's own test enters is entered by the joint test.
+/// Per axis with a positive direction the near distance (lo - o) * inv is smallest at the largest origin, the far
+/// distance at the smallest (mirrored for a negative direction); the reciprocal's corner depends on the sign of
+/// the difference, so both are taken.
+struct JointBoxRay {
+  bool valid = false;
+  __m128 orgNear[3], orgFar[3], invLo[3], invHi[3], invFarLo[3], invFarHi[3], tMin, tMax;
+  int nearBound[3], farBound[3];
+  /// maxSpread: the largest origin spread (per axis, in the tree's units) for which the joint test is used; rays
+  /// further apart (neighbouring pixels on different surfaces, a block across a silhouette) enter many more
+  /// children together than alone, and keep their own tests. Reciprocals spreading by more than 1/8 of their
+  /// magnitude (a point light close to the surface) likewise.
+  JointBoxRay(const BoxRay* br, const __m128* tMinV, const __m128* tMaxV, unsigned active, float maxSpread) {
+    const int f = __builtin_ctz(active);
+    for (unsigned m = active; m; m &= m - 1) {
+      const int i = __builtin_ctz(m);
+      if (br[i].tScale != br[f].tScale) return;
+      for (int a = 0; a < 3; ++a)
+        if (br[i].nearBound[a] != br[f].nearBound[a]) return;
+    }
+    const __m128 finiteMax = _mm_set1_ps(std::numeric_limits<float>::max());
+    const __m128 signBit = _mm_set1_ps(-0.0f);
+    tMin = tMinV[f];
+    tMax = tMaxV[f];
+    for (int a = 0; a < 3; ++a) {
+      const bool negative = br[f].nearBound[a] >= 3;
+      __m128 oNearLo = br[f].orgNear[a], oNearHi = oNearLo, oFarLo = br[f].orgFar[a], oFarHi = oFarLo;
+      __m128 nLo = br[f].invNear[a], nHi = nLo, fLo = br[f].invFar[a], fHi = fLo;
+      __m128 finite = _mm_set1_ps(-1.0f);  // all ones while every value is finite
+      for (unsigned m = active; m; m &= m - 1) {
+        const BoxRay& r = br[__builtin_ctz(m)];
+        oNearLo = _mm_min_ps(oNearLo, r.orgNear[a]), oNearHi = _mm_max_ps(oNearHi, r.orgNear[a]);
+        oFarLo = _mm_min_ps(oFarLo, r.orgFar[a]), oFarHi = _mm_max_ps(oFarHi, r.orgFar[a]);
+        nLo = _mm_min_ps(nLo, r.invNear[a]), nHi = _mm_max_ps(nHi, r.invNear[a]);
+        fLo = _mm_min_ps(fLo, r.invFar[a]), fHi = _mm_max_ps(fHi, r.invFar[a]);
+        for (__m128 v : {r.orgNear[a], r.orgFar[a], r.invNear[a], r.invFar[a]})
+          finite = _mm_and_ps(finite, _mm_cmple_ps(_mm_andnot_ps(signBit, v), finiteMax));
+      }
+      if (_mm_movemask_ps(finite) != 0xf) return;  // infinite or NaN values: the rays' own tests
+      const float spread =
+          std::max(_mm_cvtss_f32(_mm_sub_ps(oNearHi, oNearLo)), _mm_cvtss_f32(_mm_sub_ps(oFarHi, oFarLo)));
+      const float invSpread = _mm_cvtss_f32(_mm_max_ps(_mm_sub_ps(nHi, nLo), _mm_sub_ps(fHi, fLo)));
+      if (!(spread <= maxSpread) || !(invSpread <= 0.125f * std::abs(_mm_cvtss_f32(nLo)))) return;
+      orgNear[a] = negative ? oNearLo : oNearHi;
+      orgFar[a] = negative ? oFarHi : oFarLo;
+      invLo[a] = nLo, invHi[a] = nHi, invFarLo[a] = fLo, invFarHi[a] = fHi;
+      nearBound[a] = br[f].nearBound[a];
+      farBound[a] = br[f].farBound[a];
+    }
+    for (unsigned m = active; m; m &= m - 1) {
+      tMin = _mm_min_ps(tMin, tMinV[__builtin_ctz(m)]);
+      tMax = _mm_max_ps(tMax, tMaxV[__builtin_ctz(m)]);
+    }
+    valid = true;
+  }
+  /// Mask of the children of n the joint test enters (empty children not excluded).
+  unsigned test(const BvhWideNode& n) const {
+    __m128 t0 = tMin, t1 = tMax;
+    for (int a = 0; a < 3; ++a) {
+      const __m128 dn = _mm_sub_ps(_mm_load_ps(n.b[nearBound[a]]), orgNear[a]);
+      const __m128 df = _mm_sub_ps(_mm_load_ps(n.b[farBound[a]]), orgFar[a]);
+      t0 = _mm_max_ps(t0, _mm_min_ps(_mm_mul_ps(dn, invLo[a]), _mm_mul_ps(dn, invHi[a])));
+      t1 = _mm_min_ps(t1, _mm_max_ps(_mm_mul_ps(df, invFarLo[a]), _mm_mul_ps(df, invFarHi[a])));
+    }
+    return unsigned(_mm_movemask_ps(_mm_cmple_ps(t0, t1)));
+  }
+};
+
 /// Where a tree's leaf primitives live, when they are stored in leaf order (slot k at base + k * stride): lets the
 /// traversal prefetch a leaf's primitives when it decides to visit it. Default: none.
 struct LeafData {
@@ -144,6 +217,9 @@ class Bvh {
   static constexpr int kSahDepthLimit = 64;
   /// Wide traversal stack: each wide level pushes at most 3 entries more than it pops.
   static constexpr int kWideStackSize = 3 * kStackSize + 1;
+  /// traverseAny4 tests a packet's rays together while their origins lie within this share of the tree's extent
+  /// (per axis); farther apart, each ray tests every node.
+  static constexpr double kJointSpread = 1.0 / 64.0;
 
   /// Builds over boxes[i] with representative points centroids[i]. Empty input gives an empty tree, and so does a
   /// build cancelled through BvhBuildOptions::cancel.
@@ -277,6 +353,117 @@ class Bvh {
   done:
     if (nodesVisited) *nodesVisited += visited;
     return hitAny;
+  }
+
+  /// Any-hit walk of up to four rays at once (shadow packets): rays[i] takes part when bit i of active is set.
+  /// leaf(first, count, rays) tests primitive slots [first, first+count) for the rays of the bit mask rays and
+  /// returns the mask of those it has finished (blocked, or handed elsewhere): a finished ray visits nothing more.
+  /// Returns the mask of finished rays. Each ray keeps its own conservative box test (BoxRay, the same rounding as
+  /// traverse()), so a ray enters every child that its single-ray walk would enter; only the order of the visits
+  /// differs, which does not change any-hit results when the leaf tests are exact. nodesVisited (if given) counts
+  /// visited wide nodes once per packet.
+  /// Performance note: a node's boxes are loaded once for all its rays (single-ray traversal waits on memory);
+  /// each ray's four-box test is the single-ray one, and the children entered by any ray carry the mask of rays
+  /// that entered them.
+  template <typename LeafFn>
+  unsigned traverseAny4(const Ray* rays, unsigned active, LeafFn&& leaf, uint64_t* nodesVisited = nullptr,
+                        LeafData leafData = {}) const {
+    if (wide_.empty()) return 0;
+    for (int i = 0; i < 4; ++i)
+      if ((active >> i & 1) && (!isFinite(rays[i].origin) || !isFinite(rays[i].dir))) active &= ~(1u << i);
+    if (active == 0) return 0;
+    const BvhWideNode& root = wide_[0];
+    if (wide_.size() == 1 && root.count[1] == BvhWideNode::kEmpty && root.count[0] != 0 &&
+        root.count[0] != BvhWideNode::kEmpty) {  // one-leaf tree: see traverse()
+      if (nodesVisited) ++*nodesVisited;
+      return leaf(root.first[0], root.count[0], active) & active;
+    }
+    BoxRay br[4];
+    __m128 tMinV[4], tMaxV[4];
+    for (int i = 0; i < 4; ++i)
+      if (active >> i & 1) {
+        br[i] = BoxRay(rays[i], anchor_);
+        tMinV[i] = _mm_set1_ps(floatBelow(rays[i].tMin * br[i].tScale));
+        tMaxV[i] = _mm_set1_ps(floatAbove(rays[i].tMax * br[i].tScale));
+      }
+    const Vec3 extent = bounds_.hi - bounds_.lo;
+    const JointBoxRay joint(br, tMinV, tMaxV, active,
+                            float(std::max(extent.x, std::max(extent.y, extent.z)) * kJointSpread));
+    struct Entry {
+      uint32_t first, count;
+      unsigned rays;
+    };
+    Entry stack[kWideStackSize];
+    int sp = 0;
+    uint64_t visited = 0;
+    unsigned finished = 0;
+    Entry cur{0, 0, active};
+    const __m128 inf = _mm_set1_ps(std::numeric_limits<float>::infinity());
+    for (;;) {
+      ++visited;
+      if (cur.count > 0) {
+        finished |= leaf(cur.first, cur.count, cur.rays) & cur.rays;
+        if (finished == active) break;
+      } else {
+        const BvhWideNode& n = wide_[cur.first];
+        const __m128 used = _mm_cmplt_ps(_mm_load_ps(n.b[0]), inf);
+        // Per child, the rays that enter it (bit i of enter[c]). With a joint test, its inner children take all
+        // the node's rays and only leaf children are tested ray by ray (a leaf's primitive tests cost more than a
+        // box test); else each ray's slab test as in traverse()
+        unsigned enter[4] = {0, 0, 0, 0};
+        unsigned perRay = cur.rays, children = 0xfu;  // rays and children left to the per-ray tests
+        if (joint.valid && (cur.rays & (cur.rays - 1))) {
+          const unsigned hit = joint.test(n) & unsigned(_mm_movemask_ps(used));
+          children = 0;
+          for (int c = 0; c < 4; ++c) {
+            if (!(hit >> c & 1)) continue;
+            if (n.count[c] == 0)
+              enter[c] = cur.rays;
+            else
+              children |= 1u << c;
+          }
+          if (children == 0) perRay = 0;
+        }
+        for (unsigned m = perRay; m; m &= m - 1) {
+          const int i = __builtin_ctz(m);
+          const BoxRay& r = br[i];
+          __m128 t0 = tMinV[i], t1 = tMaxV[i];
+          for (int a = 0; a < 3; ++a) {
+            const __m128 lo = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.nearBound[a]]), r.orgNear[a]), r.invNear[a]);
+            const __m128 hi = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.farBound[a]]), r.orgFar[a]), r.invFar[a]);
+            t0 = _mm_max_ps(t0, lo);
+            t1 = _mm_min_ps(hi, t1);
+          }
+          const unsigned hit = unsigned(_mm_movemask_ps(_mm_and_ps(_mm_cmple_ps(t0, t1), used))) & children;
+          for (int c = 0; c < 4; ++c) enter[c] |= (hit >> c & 1u) << i;
+        }
+        // The first entered child is visited next, the others pushed
+        int next = -1;
+        for (int c = 0; c < 4; ++c) {
+          if (enter[c] == 0) continue;
+          if (next < 0) {
+            next = c;
+          } else {
+            stack[sp++] = Entry{n.first[c], n.count[c], enter[c]};
+            prefetchChild(n.first[c], n.count[c], leafData);
+          }
+        }
+        if (next >= 0) {
+          cur = Entry{n.first[next], n.count[next], enter[next]};
+          prefetchChild(cur.first, cur.count, leafData);
+          continue;
+        }
+      }
+      // Next entry from the stack, without the rays finished since it was pushed
+      do {
+        if (sp == 0) goto done;
+        cur = stack[--sp];
+        cur.rays &= ~finished;
+      } while (cur.rays == 0);
+    }
+  done:
+    if (nodesVisited) *nodesVisited += visited;
+    return finished;
   }
 
   /// The point node coordinates are relative to: b[k][c] + anchor[k % 3] bounds child c (conservatively).

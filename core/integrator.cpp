@@ -49,16 +49,156 @@ Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings, c
   buildRemainingBounds();
 }
 
+/// The shading frame at a hit (radiance's first step, also taken ahead for a block's first hits).
+struct Integrator::HitFrame {
+  SurfacePoint sp;
+  Vec3 d, nf, ngf, v;  ///< Ray direction (unit); shading and geometric normals facing the ray; view vector.
+  bool backFace = false;
+  double pathHere = 0.0;           ///< Path length to the hit (edge footprints).
+  const Material* base = nullptr;  ///< The hit's material (the back material on back faces).
+  bool onEdge = false;             ///< Within an edge: edge holds the edge material.
+  // Constructed only on edge pixels. Performance note: a union, not std::optional, whose storage the compiler
+  // zero-fills at every hit (Material is trivially destructible, so nothing needs to end its life)
+  union EdgeSlot {
+    EdgeSlot() {}
+    Material m;
+  } edge;
+  const Material& material() const { return onEdge ? edge.m : *base; }
+};
+
+/// A camera ray's first hit and its shadow rays' answers, found ahead for a block (traceBlock).
+struct Integrator::FirstHit {
+  bool found = false;
+  Hit hit;
+  HitFrame frame;
+  unsigned lights = 0;  ///< Bit j: shadow ray j recorded (ray[j]) and answered (t[j], cut[j]).
+  // Performance note: the arrays in a union, left unconstructed (Ray's members have initialisers): a block would
+  // otherwise write ~1 KB per camera ray before it is used
+  union Slots {
+    Slots() {}
+    struct {
+      Ray ray[kPacketLights];
+      Color t[kPacketLights];
+      bool cut[kPacketLights];
+    } s;
+  } slots;
+  Ray& ray(int j) { return slots.s.ray[j]; }
+  Color& t(int j) { return slots.s.t[j]; }
+  bool& cut(int j) { return slots.s.cut[j]; }
+  const Color& t(int j) const { return slots.s.t[j]; }
+  bool cut(int j) const { return slots.s.cut[j]; }
+};
+
+/// Shadow rays traced one by one (Scene::transmittance).
+struct Integrator::TraceShadows {
+  static constexpr bool kCollect = false;
+  const Scene& scene;
+  Color operator()(int /*light*/, const Ray& sr, float cutoff, RayStats& st, bool& cut) const {
+    return scene.transmittance(sr, cutoff, &st.nodesVisited, &cut);
+  }
+};
+
+/// Shadow rays only recorded (the first kPacketLights lights), for a packet.
+struct Integrator::CollectShadows {
+  static constexpr bool kCollect = true;
+  FirstHit& fh;
+  Color operator()(int light, const Ray& sr, float, RayStats&, bool&) const {
+    if (light < kPacketLights) {
+      fh.ray(light) = sr;
+      fh.lights |= 1u << light;
+    }
+    return Color(1.0f);
+  }
+};
+
+/// Shadow rays answered by the packets (lights beyond those recorded traced one by one).
+struct Integrator::AnsweredShadows {
+  static constexpr bool kCollect = false;
+  const Scene& scene;
+  const FirstHit& fh;
+  Color operator()(int light, const Ray& sr, float cutoff, RayStats& st, bool& cut) const {
+    if (light < kPacketLights && (fh.lights >> light & 1)) {
+      cut = fh.cut(light);
+      return fh.t(light);
+    }
+    return scene.transmittance(sr, cutoff, &st.nodesVisited, &cut);
+  }
+};
+
+void Integrator::startPath(const Ray& ray, const Color& screenBackground, PathState& ps) const {
+  ps.screenBackground = screenBackground;
+  // Edge footprints grow with the distance from the eye; camera rays may start on the near plane
+  if (s_.pixelAngle > 0.0) ps.pathLength = glm::length(ray.origin - s_.eye);
+}
+
 Sample Integrator::trace(const Ray& ray, RayStats& stats, const Color& screenBackground) const {
-  Sample out;
   ++stats.primary;
   double tHit = kInfinity;
   Vec3 first(0.0);
   PathState ps;
-  ps.screenBackground = screenBackground;
-  // Edge footprints grow with the distance from the eye; camera rays may start on the near plane
-  if (s_.pixelAngle > 0.0) ps.pathLength = glm::length(ray.origin - s_.eye);
-  out.color = (this->*kernel_)(ray, 0, Color(1.0f), true, stats, ps, &tHit, &first);
+  startPath(ray, screenBackground, ps);
+  const Color c = (this->*kernel_)(ray, 0, Color(1.0f), true, stats, ps, &tHit, &first, nullptr);
+  return finishPath(c, tHit, first, ps, stats);
+}
+
+void Integrator::traceBlock(const Ray* rays, int n, RayStats* stats, const Color* screenBackground, Sample* out) const {
+  // Scenes with transmissive surfaces trace single rays: there a packet's blocked rays go again through
+  // transmittance() (Scene::occludedPacket), which made the classic scene's frame 6% slower
+  if (!s_.packets || !shadows_ || n < 2 || scene_.features().transmissive) {
+    for (int i = 0; i < n; ++i) out[i] = trace(rays[i], stats[i], screenBackground[i]);
+    return;
+  }
+  // First hits and their shadow rays (recorded by shadeLocal's own gating, so the same rays trace() casts)
+  FirstHit fh[kBlock];
+  PathState ps[kBlock];
+  for (int i = 0; i < n; ++i) {
+    ++stats[i].primary;
+    startPath(rays[i], screenBackground[i], ps[i]);
+    fh[i].found = scene_.intersect(rays[i], fh[i].hit, &stats[i].nodesVisited);
+    if (!fh[i].found) continue;
+    HitFrame& f = fh[i].frame;
+    frameHit(rays[i], fh[i].hit, 0, ps[i], f);
+    const Material& m = f.material();
+    const bool inside = f.backFace && maxComponent(m.transmittance) > 0.0f;
+    Color highlight;
+    float shadowCut = 0.0f;
+    CollectShadows collect{fh[i]};
+    shadeLocal<true>(f.sp, m, f.nf, f.v, inside, stats[i], highlight, shadowCut, collect);
+  }
+  // Per light, the block's shadow rays as one packet; rays the packet cannot answer bit for bit are traced alone
+  for (int j = 0; j < std::min(kPacketLights, int(lights_.size())); ++j) {
+    unsigned active = 0;
+    Ray packet[kBlock];
+    for (int i = 0; i < n; ++i)
+      if (fh[i].lights >> j & 1) {
+        packet[i] = fh[i].ray(j);
+        active |= 1u << i;
+      }
+    if (active == 0) continue;
+    unsigned blocked = 0, single = active;
+    if (active & (active - 1)) single = scene_.occludedPacket(packet, active, blocked, &stats[0].nodesVisited);
+    for (unsigned m = active; m; m &= m - 1) {
+      const int i = __builtin_ctz(m);
+      fh[i].cut(j) = false;
+      if (single >> i & 1)
+        fh[i].t(j) = scene_.transmittance(packet[i], s_.contributionThreshold, &stats[i].nodesVisited, &fh[i].cut(j));
+      else
+        fh[i].t(j) = Color(blocked >> i & 1 ? 0.0f : 1.0f);
+    }
+  }
+  // Shading and everything after the first hit, per ray
+  for (int i = 0; i < n; ++i) {
+    double tHit = kInfinity;
+    Vec3 first(0.0);
+    const Color c = (this->*kernel_)(rays[i], 0, Color(1.0f), true, stats[i], ps[i], &tHit, &first, &fh[i]);
+    out[i] = finishPath(c, tHit, first, ps[i], stats[i]);
+  }
+}
+
+Sample Integrator::finishPath(const Color& color, double tHit, const Vec3& first, const PathState& ps,
+                              RayStats& stats) const {
+  Sample out;
+  out.color = color;
   out.hit = std::isfinite(tHit);
   out.firstHit = first;
   out.truncationBound = ps.truncation;
@@ -150,9 +290,9 @@ void Integrator::buildRemainingBounds() {
   }
 }
 
-template <bool Shadows>
+template <bool Shadows, typename ShadowFn>
 Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Vec3& n, const Vec3& v, bool inside,
-                             RayStats& st, Color& highlight, float& shadowCut) const {
+                             RayStats& st, Color& highlight, float& shadowCut, ShadowFn& shadows) const {
   highlight = Color(0.0f);
   // Colours as VTK's shader forms them (ambient = Ka*Ca, diffuse = Kd*Cd, specular = Ks*Cs)
   Color ca = m.ambientColor, cd = m.diffuseColor;
@@ -171,7 +311,8 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
   const bool wantDiffuse = maxComponent(dif) > 0.0f, wantSpecular = maxComponent(spe) > 0.0f;
   if (!wantDiffuse && !wantSpecular) return amb;
   Color diffuse(0.0f), specular(0.0f);
-  for (const PreparedLight& pl : lights_) {
+  for (int j = 0; j < int(lights_.size()); ++j) {
+    const PreparedLight& pl = lights_[std::size_t(j)];
     const Light& light = *pl.light;
     Color lc = pl.radiance;
     LightSample ls = sampleLight(pl, sp.p);
@@ -195,9 +336,10 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
         sr.tMin = 0.0;
         // Stop just short of a point light (the light itself is not geometry)
         sr.tMax = std::isfinite(ls.distance) ? glm::length(light.position - sr.origin) * (1.0 - 1e-9) : kInfinity;
-        ++st.shadow;
         bool cut = false;
-        Color t = scene_.transmittance(sr, s_.contributionThreshold, &st.nodesVisited, &cut);
+        Color t = shadows(j, sr, s_.contributionThreshold, st, cut);
+        if constexpr (ShadowFn::kCollect) continue;
+        ++st.shadow;
         if (maxComponent(t) <= 0.0f) {
           // Cut by the threshold, the transmittance was below it in every channel: at most that share of this
           // light's diffuse and specular terms is missing
@@ -218,11 +360,39 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
   return amb + dif * diffuse;
 }
 
+void Integrator::frameHit(const Ray& ray, const Hit& hit, int depth, const PathState& ps, HitFrame& f) const {
+  f.sp = scene_.surface(ray, hit);
+  const SurfacePoint& sp = f.sp;
+
+  // Orient normals toward the incoming ray (VTK flips normals of back faces)
+  f.d = glm::normalize(ray.dir);
+  f.backFace = glm::dot(sp.ng, f.d) > 0.0;
+  f.nf = f.backFace ? -sp.ns : sp.ns;
+  f.ngf = f.backFace ? -sp.ng : sp.ng;
+  f.v = (depth == 0 && s_.viewFromEye) ? glm::normalize(s_.eye - sp.p) : -f.d;
+
+  // The material: the back material on back faces (VTK's BackfaceProperty), the edge material within half the
+  // edge width of a drawn edge (lit as VTK lights lines over a surface: facing the viewer)
+  const Material* mp = &scene_.material(sp.material);
+  if (f.backFace && mp->backMaterial >= 0) mp = &scene_.material(uint32_t(mp->backMaterial));
+  f.base = mp;
+  f.onEdge = false;
+  f.pathHere = scene_.features().edges ? ps.pathLength + hit.t * glm::length(ray.dir) : 0.0;
+  if (scene_.features().edges && mp->edgeWidth > 0.0f) {
+    const double halfWidth = 0.5 * double(mp->edgeWidth) * (s_.pixelSize + s_.pixelAngle * f.pathHere);
+    if (halfWidth > 0.0 && scene_.edgeDistance(ray, hit, sp.p) <= halfWidth) {
+      new (&f.edge.m) Material(edgeMaterial(*mp));
+      f.onEdge = true;
+      f.nf = f.v;
+    }
+  }
+}
+
 template <bool Reflect, bool Refract, bool Shadows>
 Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straight, RayStats& st, PathState& ps,
-                           double* tHit, Vec3* firstHit) const {
+                           double* tHit, Vec3* firstHit, const FirstHit* pre) const {
   Hit hit;
-  if (!scene_.intersect(ray, hit, &st.nodesVisited)) {
+  if (pre ? !pre->found : !scene_.intersect(ray, hit, &st.nodesVisited)) {
     if (straight) {
       // Along the camera ray's line: what lies behind the pixel on screen. The background contributes in
       // proportion to its alpha; the rest is left to what is drawn behind, through the pixel's alpha.
@@ -233,37 +403,17 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
     // Reflected or bent: the environment in the ray's direction, an opaque colour contribution
     return scene_.environment(ray.dir, up_);
   }
+  HitFrame own;
+  if (pre) hit = pre->hit;
+  else frameHit(ray, hit, depth, ps, own);
+  const HitFrame& f = pre ? pre->frame : own;
   if (tHit) *tHit = hit.t;
-  SurfacePoint sp = scene_.surface(ray, hit);
-  if (firstHit) *firstHit = sp.p;
-
-  // Orient normals toward the incoming ray (VTK flips normals of back faces)
-  Vec3 d = glm::normalize(ray.dir);
-  bool backFace = glm::dot(sp.ng, d) > 0.0;
-  Vec3 nf = backFace ? -sp.ns : sp.ns;
-  Vec3 ngf = backFace ? -sp.ng : sp.ng;
-  Vec3 v = (depth == 0 && s_.viewFromEye) ? glm::normalize(s_.eye - sp.p) : -d;
-
-  // The material: the back material on back faces (VTK's BackfaceProperty), the edge material within half the
-  // edge width of a drawn edge (lit as VTK lights lines over a surface: facing the viewer)
-  const Material* mp = &scene_.material(sp.material);
-  if (backFace && mp->backMaterial >= 0) mp = &scene_.material(uint32_t(mp->backMaterial));
-  const double pathHere = scene_.features().edges ? ps.pathLength + hit.t * glm::length(ray.dir) : 0.0;
-  // Constructed only on edge pixels. Performance note: a union, not std::optional, whose storage the compiler
-  // zero-fills at every hit (Material is trivially destructible, so nothing needs to end its life)
-  union EdgeSlot {
-    EdgeSlot() {}
-    Material m;
-  } edge;
-  if (scene_.features().edges && mp->edgeWidth > 0.0f) {
-    const double halfWidth = 0.5 * double(mp->edgeWidth) * (s_.pixelSize + s_.pixelAngle * pathHere);
-    if (halfWidth > 0.0 && scene_.edgeDistance(ray, hit, sp.p) <= halfWidth) {
-      new (&edge.m) Material(edgeMaterial(*mp));
-      mp = &edge.m;
-      nf = v;
-    }
-  }
-  const Material& m = *mp;
+  if (firstHit) *firstHit = f.sp.p;
+  const SurfacePoint& sp = f.sp;
+  const Vec3 &d = f.d, &nf = f.nf, &ngf = f.ngf, &v = f.v;
+  const bool backFace = f.backFace;
+  const double pathHere = f.pathHere;
+  const Material& m = f.material();
 
   // Local shading, weighted by opacity as VTK blends it
   float opacity = m.opacity * (sp.hasColor && m.colorSource != ColorSource::Material ? sp.color.a : 1.0f);
@@ -272,7 +422,14 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
   const bool inside = backFace && maxComponent(m.transmittance) > 0.0f;
   Color highlight;
   float shadowCut = 0.0f;
-  Color body = shadeLocal<Shadows>(sp, m, nf, v, inside, st, highlight, shadowCut);
+  Color body;
+  if (pre) {
+    AnsweredShadows answered{scene_, *pre};
+    body = shadeLocal<Shadows>(sp, m, nf, v, inside, st, highlight, shadowCut, answered);
+  } else {
+    TraceShadows traced{scene_};
+    body = shadeLocal<Shadows>(sp, m, nf, v, inside, st, highlight, shadowCut, traced);
+  }
   // Light the threshold cut from shadow rays: clamping, the body share and the texture factor (<= 1) can only
   // shrink it
   if (shadowCut > 0.0f) ps.truncation += maxComponent(weight) * opacity * shadowCut;
@@ -364,7 +521,7 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
       const bool rayStraight = straight && refractedRay && refractedStraight;
       const double pathBefore = ps.pathLength;
       ps.pathLength = pathHere;
-      Color c = radiance<Reflect, Refract, Shadows>(r, depth + 1, w, rayStraight, st, ps, &t, nullptr);
+      Color c = radiance<Reflect, Refract, Shadows>(r, depth + 1, w, rayStraight, st, ps, &t, nullptr, nullptr);
       ps.pathLength = pathBefore;
       if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) {
         // The refracted ray travelled t units inside the medium. In double, and only where there is absorption: a

@@ -39,6 +39,10 @@ struct IntegratorSettings {
   /// path lengths start at eye (camera rays may start on the near plane).
   double pixelSize = 0.0;
   double pixelAngle = 0.0;
+  /// Camera rays traced in blocks (Integrator::traceBlock) cast their first hits' shadow rays as packets. The image
+  /// and the ray counts are the same either way; off traces every shadow ray alone (tests, measurements).
+  /// Default on.
+  bool packets = true;
 };
 
 /// Ray counts of one frame (summed over threads).
@@ -97,6 +101,15 @@ class Integrator {
   /// Traces a camera ray. screenBackground is the background colour behind this ray's pixel (the solid colour,
   /// or the vertical gradient at the pixel's row): what straight escapes see (see Sample).
   Sample trace(const Ray& ray, RayStats& stats, const Color& screenBackground) const;
+  /// Traces n <= kBlock camera rays, e.g. of neighbouring pixels: out[i] is bit for bit trace(rays[i], stats[i],
+  /// screenBackground[i]) and stats[i] gets the same ray counts (its nodesVisited differs). The shadow rays of
+  /// the first hits toward each of the first kPacketLights lights are cast as one packet (Scene::occludedPacket),
+  /// which loads each BVH node once for the block's rays; everything after the first hit is traced per ray.
+  /// With IntegratorSettings::packets off, or in a scene with transmissive surfaces, the same as calling trace()
+  /// for each ray.
+  void traceBlock(const Ray* rays, int n, RayStats* stats, const Color* screenBackground, Sample* out) const;
+  static constexpr int kBlock = 4;
+  static constexpr int kPacketLights = 8;
 
   /// Which optional mechanisms this frame's kernel contains (feature detection result after settings).
   bool usesReflection() const { return reflect_; }
@@ -105,14 +118,26 @@ class Integrator {
 
  private:
   struct PathState;
+  struct HitFrame;
+  struct FirstHit;
+  struct TraceShadows;
+  struct CollectShadows;
+  struct AnsweredShadows;
   template <bool Reflect, bool Refract, bool Shadows>
   Color radiance(const Ray& ray, int depth, Color weight, bool straight, RayStats& st, PathState& ps, double* tHit,
-                 Vec3* firstHit) const;
+                 Vec3* firstHit, const FirstHit* pre) const;
+  /// The shading frame at a hit: surface data, oriented normals, view vector and material (radiance's first step).
+  void frameHit(const Ray& ray, const Hit& hit, int depth, const PathState& ps, HitFrame& f) const;
   /// VTK's local shading: returns the body colour (ambient + diffuse terms) and writes the specular highlight to
-  /// highlight (they are weighted apart: see bodyWeight).
-  template <bool Shadows>
-  Color shadeLocal(const SurfacePoint& sp, const Material& m, const Vec3& n, const Vec3& v, bool inside,
-                   RayStats& st, Color& highlight, float& shadowCut) const;
+  /// highlight (they are weighted apart: see bodyWeight). Shadow rays go through shadows (TraceShadows traces
+  /// them; CollectShadows only records them, for a packet, and the colour it returns is meaningless;
+  /// AnsweredShadows takes the packet's answers).
+  template <bool Shadows, typename ShadowFn>
+  Color shadeLocal(const SurfacePoint& sp, const Material& m, const Vec3& n, const Vec3& v, bool inside, RayStats& st,
+                   Color& highlight, float& shadowCut, ShadowFn& shadows) const;
+  /// trace()'s start and end around the kernel call.
+  void startPath(const Ray& ray, const Color& screenBackground, PathState& ps) const;
+  Sample finishPath(const Color& color, double tHit, const Vec3& first, const PathState& ps, RayStats& stats) const;
   /// Bound on the radiance (largest channel) a secondary ray at depth childDepth could return in the reference.
   float remainingBound(int childDepth) const {
     if (seriesConverges_) return remaining_[0];
@@ -127,7 +152,8 @@ class Integrator {
     Color screenBackground{0.0f};  ///< What straight escapes see (see Sample).
     double pathLength = 0.0;       ///< Length of the path up to the current ray's origin (edge footprints).
   };
-  using Kernel = Color (Integrator::*)(const Ray&, int, Color, bool, RayStats&, PathState&, double*, Vec3*) const;
+  using Kernel = Color (Integrator::*)(const Ray&, int, Color, bool, RayStats&, PathState&, double*, Vec3*,
+                                       const FirstHit*) const;
   const Scene& scene_;
   /// The scene's lights that can add light (colour x intensity > 0), prepared once per frame.
   std::vector<PreparedLight> lights_;

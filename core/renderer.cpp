@@ -261,20 +261,46 @@ class FrameJob {
   void addSamples(int px, int py, int first, int last, const Integrator& integ, PixelSums& ps, RayStats& st,
                   const Color& rowBackground) const {
     // Performance note: the stratified samples and the sequence's in two loops (same order), so the sequence's
-    // per-pixel hashes, which the compiler hoists out of a joint loop, are not computed for every pixel
+    // per-pixel hashes, which the compiler hoists out of a joint loop, are not computed for every pixel; each
+    // traced in blocks (Integrator::traceBlock: the first hits' shadow rays as packets)
+    constexpr int kBlock = Integrator::kBlock;
     const int strata = std::min(std::max(ps.strata, first), last);
-    const uint64_t rays0 = st.traced();
-    for (int s = first; s < strata; ++s) addSample(samplePos(px, py, s, ps.strata), integ, ps, st, rowBackground);
-    for (int s = strata; s < last; ++s) addSample(sequencePos(px, py, s - ps.strata), integ, ps, st, rowBackground);
+    Ray rays[kBlock];
+    for (int s = first; s < strata; s += kBlock) {
+      const int m = std::min(kBlock, strata - s);
+      for (int k = 0; k < m; ++k) rays[k] = cameraRay(samplePos(px, py, s + k, ps.strata));
+      traceSamples(rays, m, integ, &ps, st, &rowBackground, 0);
+    }
+    for (int s = strata; s < last; s += kBlock) {
+      const int m = std::min(kBlock, last - s);
+      for (int k = 0; k < m; ++k) rays[k] = cameraRay(sequencePos(px, py, s + k - ps.strata));
+      traceSamples(rays, m, integ, &ps, st, &rowBackground, 0);
+    }
     ps.n += last - first;
-    ps.rays += uint32_t(std::min<uint64_t>(st.traced() - rays0, UINT32_MAX - ps.rays));
   }
 
-  // Adds one camera sample at continuous pixel position p to ps
-  void addSample(const Vec2& p, const Integrator& integ, PixelSums& ps, RayStats& st,
-                 const Color& rowBackground) const {
-    Ray r = camera_.rayPixel(p.x, p.y, w_, h_);
-    Sample smp = integ.trace(r, st, rowBackground);
+  Ray cameraRay(const Vec2& p) const { return camera_.rayPixel(p.x, p.y, w_, h_); }
+
+  // Traces n <= Integrator::kBlock camera rays as one block and adds sample k and the rays it took to pixel sums
+  // ps[k * psStride] (stride 0: all to one pixel), with screen background background[k * psStride]
+  void traceSamples(const Ray* rays, int n, const Integrator& integ, PixelSums* ps, RayStats& st,
+                    const Color* background, int psStride) const {
+    constexpr int kBlock = Integrator::kBlock;
+    RayStats stats[kBlock];
+    Color bg[kBlock];
+    Sample smp[kBlock];
+    for (int k = 0; k < n; ++k) bg[k] = background[k * psStride];
+    integ.traceBlock(rays, n, stats, bg, smp);
+    for (int k = 0; k < n; ++k) {
+      st += stats[k];
+      PixelSums& p = ps[k * psStride];
+      addSample(smp[k], p, st);
+      p.rays += uint32_t(std::min<uint64_t>(stats[k].traced(), UINT32_MAX - p.rays));
+    }
+  }
+
+  // Adds one traced camera sample to ps
+  void addSample(const Sample& smp, PixelSums& ps, RayStats& st) const {
     ps.sum += smp.color;  // premultiplied; a miss carries backgroundAlpha x the screen background
     ps.sum2 += smp.color * smp.color;
     if (smp.hit) {
@@ -324,16 +350,47 @@ class FrameJob {
   void tracePixels(int tileSlot, int n, bool refineOnly) {
     RayStats& st = tileStats_[tileSlot];
     uint64_t samples = 0, refined = 0;
-    forTilePixels(tileSlot, [&](int px, int py, std::size_t idx, const Color& rowBackground) {
-      if (refineOnly && !marks_[idx]) return;
-      PixelSums ps;
-      ps.strata = n;
-      addSamples(px, py, 0, n, integ_, ps, st, rowBackground);
+    // One sample per pixel: neighbouring pixels of a row are traced as one block (Integrator::traceBlock), so
+    // their shadow rays go as packets; several samples per pixel: the pixel's samples form the blocks
+    constexpr int kBlock = Integrator::kBlock;
+    struct Pending {
+      std::size_t idx;
+      int px, py;
+    } pending[kBlock];
+    PixelSums sums[kBlock];
+    Color bg[kBlock];
+    int np = 0;
+    auto finish = [&](std::size_t idx, PixelSums& ps) {
       samples += n;
       if (refineOnly) ++refined;
       writePixel(idx, ps, st);
       if (progressive_) acc_[idx] = ps;
+    };
+    auto flush = [&] {
+      Ray rays[kBlock];
+      for (int k = 0; k < np; ++k) rays[k] = cameraRay(samplePos(pending[k].px, pending[k].py, 0, 1));
+      traceSamples(rays, np, integ_, sums, st, bg, 1);
+      for (int k = 0; k < np; ++k) {
+        sums[k].n = 1;
+        finish(pending[k].idx, sums[k]);
+      }
+      np = 0;
+    };
+    forTilePixels(tileSlot, [&](int px, int py, std::size_t idx, const Color& rowBackground) {
+      if (refineOnly && !marks_[idx]) return;
+      if (n == 1) {
+        pending[np] = Pending{idx, px, py};
+        sums[np] = PixelSums{};
+        bg[np] = rowBackground;
+        if (++np == kBlock) flush();
+        return;
+      }
+      PixelSums ps;
+      ps.strata = n;
+      addSamples(px, py, 0, n, integ_, ps, st, rowBackground);
+      finish(idx, ps);
     });
+    if (np > 0) flush();
     samples_ += samples;
     supersampled_ += refined;
   }

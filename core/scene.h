@@ -240,6 +240,14 @@ class Scene {
   /// *cutByThreshold, if given, is then set: every channel of the true transmittance is below cutoff).
   Color transmittance(const Ray& ray, float cutoff, uint64_t* nodes = nullptr, bool* cutByThreshold = nullptr) const;
 
+  /// Shadow packet: the rays rays[i] of the bit mask active (at most four, e.g. the shadow rays of four camera
+  /// hits toward one light) walk the BVHs together. Sets bit i of blocked when an opaque surface blocks ray i;
+  /// returns the mask of rays whose answer must come from transmittance() (they met a transmissive instance, or
+  /// the scene has transmissive surfaces and the ray was blocked: see there). Every other active ray has
+  /// transmittance() = 0 when blocked and 1 when not, bit for bit. nodes, if given, counts visited BVH nodes once
+  /// per packet.
+  unsigned occludedPacket(const Ray* rays, unsigned active, unsigned& blocked, uint64_t* nodes = nullptr) const;
+
   /// Surface data of a hit.
   SurfacePoint surface(const Ray& ray, const Hit& hit) const;
   /// Distance, in world units across the ray, from the hit point p to the nearest drawn edge of the hit triangle

@@ -5,6 +5,8 @@
 #include "scene.h"
 
 #include <algorithm>
+#include <new>
+#include <type_traits>
 
 namespace whitted {
 
@@ -135,7 +137,75 @@ bool crossObject(const Object& o, const typename Shape::Geometry& g, const Ray& 
       nodes, leafData<Shape>(g));
 }
 
+/// Opaque-object part of a shadow packet: the object-space rays r[i] (bits of active) through object o of shape
+/// Shape. Returns the mask of rays blocked (each ray's exact leaf test, as crossObject's opaque case).
+template <typename Shape>
+unsigned blockObject4(const Object& o, const typename Shape::Geometry& g, const Ray* r, unsigned active,
+                      uint64_t* nodes) {
+  using Tester = typename Shape::Tester;
+  // The testers' per-ray set-up, for the active rays only (a Tester has no default constructor)
+  alignas(Tester) unsigned char storage[4][sizeof(Tester)];
+  Tester* test[4] = {};
+  for (unsigned m = active; m; m &= m - 1) {
+    const int i = __builtin_ctz(m);
+    test[i] = new (storage[i]) Tester(g, o.leafPrims(), r[i]);
+  }
+  static_assert(std::is_trivially_destructible_v<Tester>, "the testers are never destroyed");
+  return o.bvh.traverseAny4(
+      r, active,
+      [&](uint32_t f, uint32_t c, unsigned rays) {
+        unsigned blocked = 0;
+        for (unsigned m = rays; m; m &= m - 1) {
+          const int i = __builtin_ctz(m);
+          for (uint32_t k = f; k < f + c; ++k)
+            if ((*test[i])(k, r[i])) {
+              blocked |= 1u << i;
+              break;
+            }
+        }
+        return blocked;
+      },
+      nodes, leafData<Shape>(g));
+}
+
 }  // namespace
+
+unsigned Scene::occludedPacket(const Ray* rays, unsigned active, unsigned& blocked, uint64_t* nodes) const {
+  blocked = 0;
+  unsigned fallback = 0;
+  auto instancesInLeaf = [&](uint32_t first, uint32_t count, unsigned raysIn) {
+    unsigned done = 0;
+    for (uint32_t s = first; s < first + count && (raysIn & ~done); ++s) {
+      const unsigned alive = raysIn & ~done;
+      const Instance& in = instances_[topInstances_[s]];
+      if (maxComponent(materials_[in.material].transmittance) > 0.0f) {
+        // A transmissive surface may lie on these rays: their products of kt are formed by transmittance()
+        fallback |= alive;
+        done |= alive;
+        continue;
+      }
+      const Object& o = objects_[in.object];
+      Ray r[4];
+      for (unsigned m = alive; m; m &= m - 1) r[__builtin_ctz(m)] = in.objectRay(rays[__builtin_ctz(m)]);
+      const unsigned hit = visitShape(
+          o, [&](auto shape, const auto& g) { return blockObject4<decltype(shape)>(o, g, r, alive, nodes); });
+      blocked |= hit;
+      done |= hit;
+    }
+    return done;
+  };
+  if (topInstances_.size() == 1)
+    instancesInLeaf(0, 1, active);
+  else
+    top_.traverseAny4(rays, active, instancesInLeaf, nodes);
+  // With transmissive surfaces in the scene, a blocked ray's walk by transmittance() might have met them before
+  // the opaque blocker and been cut by the threshold (which the caller's error bound counts): traced again
+  if (features_.transmissive) {
+    fallback |= blocked;
+    blocked = 0;
+  }
+  return fallback & active;
+}
 
 bool Scene::intersect(const Ray& ray, Hit& hit, uint64_t* nodes) const {
   hit = Hit{};

@@ -35,6 +35,7 @@ RenderSettings settingsFrom(const Args& a) {
   rs.integrator.maxDepth = a.integer("depth", 5);
   rs.integrator.contributionThreshold = float(a.real("threshold", 1.0 / 255.0));
   rs.integrator.shadows = !a.has("no-shadows");
+  rs.integrator.packets = !a.has("no-packets");
   rs.errorEstimates = !a.has("no-error-estimates");  // as interactive frames of the VTK pass
   rs.targetError = a.real("target-error", 0.0);
   rs.timeBudget = a.real("time-budget", 0.0);

@@ -2,6 +2,7 @@
 
 #include "bench_common.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -59,6 +60,11 @@ std::vector<RayBatch> makeRays(const Scene& scene, const Camera& cam, int w, int
     q.tMax = kInfinity;
     out[2].rays.push_back(q);
   }
+  // The shadow rays again, as packets of four rays of consecutive hits (what Integrator::traceBlock casts)
+  RayBatch packets = out[1];
+  packets.kind = "shadow4";
+  packets.packets = true;
+  out.insert(out.begin() + 2, std::move(packets));
   return out;
 }
 
@@ -66,6 +72,16 @@ double traceOurs(const Scene& scene, const RayBatch& b, int threads, RayResults&
   return parallelFor(
       b.rays.size(), threads,
       [&](std::size_t lo, std::size_t hi, int) {
+        if (b.packets) {
+          for (std::size_t i = lo; i < hi; i += 4) {
+            const int n = int(std::min<std::size_t>(4, hi - i));
+            unsigned blocked = 0;
+            // Opaque materials: no ray falls back to transmittance()
+            scene.occludedPacket(&b.rays[i], (1u << n) - 1u, blocked);
+            for (int k = 0; k < n; ++k) out.hit[i + std::size_t(k)] = blocked >> k & 1;
+          }
+          return;
+        }
         for (std::size_t i = lo; i < hi; ++i) {
           if (b.occlusion) {
             // Opaque materials (the ray benchmark sets kt = 0), so transmittance is a pure any-hit query
@@ -106,13 +122,31 @@ std::vector<RTCRay> toEmbree(const std::vector<Ray>& rays) {
   return e;
 }
 
-double traceEmbree(RTCScene scene, const std::vector<RTCRay>& rays, bool occlusion, int threads, RayResults& out,
-                   double* cpu) {
+double traceEmbree(RTCScene scene, const std::vector<RTCRay>& rays, bool occlusion, bool packets, int threads,
+                   RayResults& out, double* cpu) {
   return parallelFor(
       rays.size(), threads,
       [&](std::size_t lo, std::size_t hi, int) {
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
+        if (packets) {
+          for (std::size_t i = lo; i < hi; i += 4) {
+            const int n = int(std::min<std::size_t>(4, hi - i));
+            alignas(16) int valid[4] = {0, 0, 0, 0};
+            alignas(16) RTCRay4 r;
+            for (int k = 0; k < 4; ++k) {
+              const RTCRay& e = rays[i + std::size_t(std::min(k, n - 1))];
+              valid[k] = k < n ? -1 : 0;
+              r.org_x[k] = e.org_x, r.org_y[k] = e.org_y, r.org_z[k] = e.org_z;
+              r.dir_x[k] = e.dir_x, r.dir_y[k] = e.dir_y, r.dir_z[k] = e.dir_z;
+              r.tnear[k] = e.tnear, r.tfar[k] = e.tfar, r.time[k] = e.time;
+              r.mask[k] = e.mask, r.id[k] = e.id, r.flags[k] = e.flags;
+            }
+            rtcOccluded4(valid, scene, &ctx, &r);
+            for (int k = 0; k < n; ++k) out.hit[i + std::size_t(k)] = r.tfar[k] < 0.0f;
+          }
+          return;
+        }
         for (std::size_t i = lo; i < hi; ++i) {
           if (occlusion) {
             RTCRay r = rays[i];

@@ -16,6 +16,9 @@ namespace whitted::bench {
 struct RayBatch {
   std::string kind;        ///< primary, shadow, incoherent
   bool occlusion = false;  ///< any-hit query (shadow rays)
+  /// Traced four at a time (consecutive rays: neighbouring pixels' shadow rays): ours through
+  /// Scene::occludedPacket, Embree through rtcOccluded4. Any-hit batches only.
+  bool packets = false;
   std::vector<Ray> rays;
 };
 
@@ -36,8 +39,9 @@ RayBatch primaryRays(const Camera& cam, int w, int h);
 /// get exactly these rays.
 std::vector<RayBatch> makeRays(const Scene& scene, const Camera& cam, int w, int h);
 
-/// Traces a batch with Scene::intersect (closest hit) or Scene::transmittance (any hit; materials must be
-/// opaque) on `threads` threads; returns wall seconds, *cpu = CPU seconds of the tracing threads.
+/// Traces a batch with Scene::intersect (closest hit), Scene::transmittance (any hit; materials must be opaque) or
+/// Scene::occludedPacket (packet batches) on `threads` threads; returns wall seconds, *cpu = CPU seconds of the
+/// tracing threads.
 double traceOurs(const Scene& scene, const RayBatch& b, int threads, RayResults& out, double* cpu = nullptr);
 
 #ifdef WHITTED_HAVE_EMBREE
@@ -45,9 +49,9 @@ double traceOurs(const Scene& scene, const RayBatch& b, int threads, RayResults&
 void toEmbree(const Ray& r, RTCRay& e);
 std::vector<RTCRay> toEmbree(const std::vector<Ray>& rays);
 
-/// Traces with rtcIntersect1 / rtcOccluded1; same contract as traceOurs.
-double traceEmbree(RTCScene scene, const std::vector<RTCRay>& rays, bool occlusion, int threads, RayResults& out,
-                   double* cpu = nullptr);
+/// Traces with rtcIntersect1 / rtcOccluded1 (rtcOccluded4 for a packet batch); same contract as traceOurs.
+double traceEmbree(RTCScene scene, const std::vector<RTCRay>& rays, bool occlusion, bool packets, int threads,
+                   RayResults& out, double* cpu = nullptr);
 #endif
 
 }  // namespace whitted::bench

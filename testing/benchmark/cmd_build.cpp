@@ -126,7 +126,7 @@ int cmdBuild(const Args& a) {
         er.peakBytes = double(es.buildPeakBytes());
         if (final && last) {
           std::vector<RTCRay> rays = toEmbree(primary.rays);
-          Timing tt = timeRepeated(1, 3, [&] { return traceEmbree(es.get(), rays, false, allThreads, res); });
+          Timing tt = timeRepeated(1, 3, [&] { return traceEmbree(es.get(), rays, false, false, allThreads, res); });
           er.primaryMrays = mrays(tt.median);
         }
       }

@@ -1,7 +1,7 @@
 // whitted_bench frame --scene NAME --sizes WxH,...: whole frames (trace time after the BVH build, median of
 // --reps runs after --warmup), at each thread count of --threads-list; --png FILE keeps the last image.
-// Render settings: --spp, --adaptive, --depth, --threshold, --no-shadows, --no-error-estimates (as interactive
-// frames), --target-error E, --time-budget S (progressive refinement).
+// Render settings: --spp, --adaptive, --depth, --threshold, --no-shadows, --no-packets (shadow rays traced one by one),
+// --no-error-estimates (as interactive frames), --target-error E, --time-budget S (progressive refinement).
 #include "bench_commands.h"
 
 #include <cstdio>

@@ -183,7 +183,7 @@ int cmdRays(const Args& a) {
           if (!e.scene) wall = traceOurs(bs.scene, b, threads, e.results, &cpu);
 #ifdef WHITTED_HAVE_EMBREE
           else
-            wall = traceEmbree(e.scene, erays, b.occlusion, threads, e.results, &cpu);
+            wall = traceEmbree(e.scene, erays, b.occlusion, b.packets, threads, e.results, &cpu);
 #endif
           if (r >= warmup) {
             e.wall.push_back(wall);

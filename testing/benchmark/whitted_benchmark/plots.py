@@ -95,7 +95,7 @@ def rays(ctx, rays):
     plt = plt_module()
     import numpy as np
     scenes = list(dict.fromkeys(r["scene"] for r in rays))
-    kinds = ["primary", "shadow", "incoherent"]
+    kinds = ["primary", "shadow", "shadow4", "incoherent"]
     engines = [("whitted", "Whitted", 1.0, None), ("embree", "Embree", 0.45, "//"),
                ("embree-robust", "Embree robust", 0.3, "..")]
     threads = sorted({r["threads"] for r in rays})

@@ -3,7 +3,7 @@ from .. import plots
 from ..markdown import commands_block, fmt_ratio, geomean, md_table, ratio
 from ..runner import available_scenes, fresh, is_num, read_csv
 
-KINDS = ["primary", "shadow", "incoherent"]
+KINDS = ["primary", "shadow", "shadow4", "incoherent"]
 ANCHORS = [("embree", "Embree"), ("embree-robust", "Embree robust")]
 
 
@@ -41,7 +41,8 @@ def report(ctx, head):
          "Same rays for every engine (%s image: primary rays through pixel centres; shadow rays from every primary "
          "hit to the first light; incoherent rays in uniform random directions over the hemisphere facing the "
          "viewer). Secondary rays start at our robust offset origin with tMin = 1e-5 x scene diagonal; materials "
-         "are made opaque so the shadow query is a pure any-hit (Scene::transmittance vs rtcOccluded1); closest "
+         "are made opaque so the shadow query is a pure any-hit (Scene::transmittance vs rtcOccluded1); shadow4: "
+         "the same shadow rays as packets of four consecutive ones (Scene::occludedPacket vs rtcOccluded4); closest "
          "hits use Scene::intersect vs rtcIntersect1 (single-ray calls on both sides, the same work-sharing loop "
          "and thread count). Geometry is rounded to float so all engines see identical primitives. One Embree "
          "geometry per instance (triangles, SPHERE_POINT, ROUND_LINEAR_CURVE), build quality medium, in its "

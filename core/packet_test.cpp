@@ -1,0 +1,166 @@
+// Shadow packets (Scene::occludedPacket, Integrator::traceBlock): the same image, ray counts and error bounds as
+// single shadow rays, for opaque and translucent occluders, instances (transformed, several levels of the top
+// tree), spheres and tubes, point, spot and directional lights, one and several samples per pixel. (Frames of
+// scenes with translucent surfaces trace single rays, see traceBlock: their frames check that gate; the packet
+// answers and hand-overs there are checked ray by ray.)
+#include "renderer.h"
+#include "scenes.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+#include <string>
+
+using namespace whitted;
+
+namespace {
+
+/// Opaque and (optionally) translucent occluders over a floor: a mesh sphere instanced three times (one rotated
+/// and scaled), spheres, tubes; a point light, a spot light and a directional one.
+void buildShadowScene(Scene& s, bool translucent) {
+  Material floor;
+  floor.diffuseColor = Color(0.8f, 0.8f, 0.7f);
+  floor.specular = 0.3f;
+  floor.specularPower = 20.0f;
+  const uint32_t floorMat = s.addMaterial(floor);
+  Material red;
+  red.diffuseColor = Color(0.9f, 0.2f, 0.1f);
+  const uint32_t redMat = s.addMaterial(red);
+  Material glass;
+  glass.opacity = 0.3f;
+  glass.transmittance = Color(0.6f, 0.8f, 0.7f);
+  const uint32_t glassMat = s.addMaterial(glass);
+
+  s.addInstance(s.addMesh(makeGrid(Vec3(-4, -4, 0), Vec3(8, 0, 0), Vec3(0, 8, 0), 16, 16)), Mat4(1.0), floorMat);
+  const uint32_t ball = s.addMesh(makeSphereMesh(Vec3(0.0), 0.6, 24, 12));
+  s.addInstance(ball, glm::translate(Mat4(1.0), Vec3(-1.2, 0.3, 0.8)), redMat);
+  s.addInstance(ball,
+                glm::scale(glm::rotate(glm::translate(Mat4(1.0), Vec3(1.1, -0.6, 0.9)), 0.7, Vec3(1, 1, 0)),
+                           Vec3(1.0, 0.5, 1.5)),
+                translucent ? glassMat : redMat);
+  s.addInstance(ball, glm::translate(Mat4(1.0), Vec3(0.2, 1.5, 1.4)), translucent ? glassMat : redMat);
+  SphereSet spheres;
+  for (int i = 0; i < 6; ++i) spheres.centers.push_back(Vec3(-2.5 + i, -2.0, 0.4 + 0.1 * i));
+  spheres.radii = {0.3};
+  s.addInstance(s.addSpheres(spheres), Mat4(1.0), redMat);
+  TubeSet tubes;
+  tubes.p0 = {Vec3(-2, 2.5, 0.5), Vec3(0, 2.5, 1.0)};
+  tubes.p1 = {Vec3(0, 2.5, 1.0), Vec3(2, 2.2, 0.3)};
+  tubes.radii = {0.15};
+  s.addInstance(s.addTubes(tubes), Mat4(1.0), translucent ? glassMat : redMat);
+
+  Light point;
+  point.positional = true;
+  point.coneAngle = 90.0;
+  point.position = Vec3(2.0, -1.0, 5.0);
+  point.intensity = 0.6f;
+  Light spot;
+  spot.positional = true;
+  spot.position = Vec3(-3.0, 2.0, 4.0);
+  spot.focalPoint = Vec3(0.0);
+  spot.coneAngle = 35.0;
+  spot.intensity = 0.5f;
+  Light sun;
+  sun.position = Vec3(1.0, 2.0, 3.0);
+  sun.intensity = 0.4f;
+  s.lights() = {point, spot, sun};
+}
+
+void expectSameFrames(const Scene& scene, const Camera& cam, RenderSettings rs, const std::string& what) {
+  FrameBuffer single, packets;
+  rs.integrator.packets = false;
+  const FrameStats a = render(scene, cam, rs, 61, 47, single);
+  rs.integrator.packets = true;
+  const FrameStats b = render(scene, cam, rs, 61, 47, packets);
+  ASSERT_GT(a.rays.shadow, 0u) << what;
+  EXPECT_EQ(0, std::memcmp(single.color.data(), packets.color.data(), single.color.size() * sizeof(Color4))) << what;
+  EXPECT_EQ(0, std::memcmp(single.depth.data(), packets.depth.data(), single.depth.size() * sizeof(float))) << what;
+  EXPECT_EQ(0, std::memcmp(single.truncation.data(), packets.truncation.data(),
+                           single.truncation.size() * sizeof(single.truncation[0])))
+      << what;
+  EXPECT_EQ(a.rays.primary, b.rays.primary) << what;
+  EXPECT_EQ(a.rays.shadow, b.rays.shadow) << what;
+  EXPECT_EQ(a.rays.reflection, b.rays.reflection) << what;
+  EXPECT_EQ(a.rays.refraction, b.rays.refraction) << what;
+  EXPECT_EQ(a.rays.savedByThreshold, b.rays.savedByThreshold) << what;
+  EXPECT_EQ(a.truncation.rms, b.truncation.rms) << what;
+  EXPECT_EQ(a.sampling.rms, b.sampling.rms) << what;
+}
+
+}  // namespace
+
+TEST(ShadowPackets, SameFramesAsSingleRays) {
+  for (bool translucent : {false, true}) {
+    Scene s;
+    buildShadowScene(s, translucent);
+    s.commit();
+    CameraSpec cs;
+    cs.eye = Vec3(0.5, -7.0, 5.0);
+    cs.focal = Vec3(0.0, 0.0, 0.5);
+    cs.up = Vec3(0, 0, 1);
+    const Camera cam = cs.make(61.0 / 47.0, s.bounds());
+    const std::string name = translucent ? "translucent occluders" : "opaque occluders";
+    RenderSettings rs;
+    rs.threads = 2;
+    expectSameFrames(s, cam, rs, name + ", 1 spp");
+    rs.samplesPerPixel = 4;
+    rs.adaptive = true;
+    expectSameFrames(s, cam, rs, name + ", 4 spp adaptive");
+    rs.samplesPerPixel = 5;  // a pixel's last block holds one sample
+    rs.adaptive = false;
+    expectSameFrames(s, cam, rs, name + ", 5 spp");
+  }
+  // The classic scene: glass and mirror spheres (reflections, refractions) over a floor, one point light
+  Scene c;
+  CameraSpec cs;
+  buildClassicScene(c, cs);
+  c.commit();
+  RenderSettings rs;
+  rs.threads = 2;
+  expectSameFrames(c, cs.make(61.0 / 47.0, c.bounds()), rs, "classic");
+}
+
+// Each packet answer is transmittance()'s, and opaque scenes answer every ray in the packet (nothing falls back).
+TEST(ShadowPackets, PacketAnswersAreTransmittance) {
+  for (bool translucent : {false, true}) {
+    Scene s;
+    buildShadowScene(s, translucent);
+    s.commit();
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    int blockedRays = 0, freeRays = 0, fallbacks = 0;
+    for (int packet = 0; packet < 2000; ++packet) {
+      // Four rays from nearby floor points toward one light position (coherent, like a pixel block's)
+      const Vec3 base(3.0 * u(rng), 3.0 * u(rng), 0.0), light(2.0 * u(rng), 2.0 * u(rng), 4.0 + u(rng));
+      Ray rays[4];
+      for (int i = 0; i < 4; ++i) {
+        rays[i].origin = base + Vec3(0.05 * u(rng), 0.05 * u(rng), 1e-9);
+        rays[i].dir = light - rays[i].origin;
+        rays[i].tMin = 0.0;
+        rays[i].tMax = packet % 2 ? 1.0 - 1e-9 : kInfinity;
+      }
+      const unsigned active = 1u + unsigned(packet % 15);
+      unsigned blocked = 0;
+      const unsigned fallback = s.occludedPacket(rays, active, blocked);
+      EXPECT_EQ(0u, fallback & ~active);
+      EXPECT_EQ(0u, blocked & ~active);
+      for (int i = 0; i < 4; ++i) {
+        if (!(active >> i & 1) || (fallback >> i & 1)) {
+          fallbacks += (fallback >> i) & 1;
+          continue;
+        }
+        const Color t = s.transmittance(rays[i], 1.0f / 255.0f);
+        const Color expected((blocked >> i & 1) ? 0.0f : 1.0f);
+        ASSERT_EQ(0, std::memcmp(&t, &expected, sizeof t)) << packet << " " << i;
+        ((blocked >> i & 1) ? blockedRays : freeRays)++;
+      }
+    }
+    if (!translucent) {
+      EXPECT_EQ(0, fallbacks);
+      EXPECT_GT(blockedRays, 100);
+    }
+    EXPECT_GT(freeRays, 100) << translucent;
+  }
+}
