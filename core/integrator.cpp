@@ -14,6 +14,7 @@ RayStats& RayStats::operator+=(const RayStats& o) {
   savedByThreshold += o.savedByThreshold;
   savedByDepth += o.savedByDepth;
   nodesVisited += o.nodesVisited;
+  boundRays += o.boundRays;
   nonFiniteSamples += o.nonFiniteSamples;
   clampedAlpha += o.clampedAlpha;
   clampedDepth += o.clampedDepth;
@@ -218,52 +219,34 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
   return amb + dif * diffuse;
 }
 
-template <bool Reflect, bool Refract, bool Shadows>
-Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straight, RayStats& st, PathState& ps,
-                           double* tHit, Vec3* firstHit) const {
-  Hit hit;
-  if (!scene_.intersect(ray, hit, &st.nodesVisited)) {
-    if (straight) {
-      // Along the camera ray's line: what lies behind the pixel on screen. The background contributes in
-      // proportion to its alpha; the rest is left to what is drawn behind, through the pixel's alpha.
-      float a = scene_.backgroundAlpha;
-      ps.escaped += (weight.x + weight.y + weight.z) / 3.0f * (1.0f - a);
-      return a * ps.screenBackground;
-    }
-    // Reflected or bent: the environment in the ray's direction, an opaque colour contribution
-    return scene_.environment(ray.dir, up_);
-  }
-  if (tHit) *tHit = hit.t;
-  SurfacePoint sp = scene_.surface(ray, hit);
-  if (firstHit) *firstHit = sp.p;
-
+template <bool Shadows>
+void Integrator::shadeHit(const Ray& ray, const Hit& hit, const SurfacePoint& sp, int depth, const Color& weight,
+                          RayStats& st, PathState& ps, HitShading& h) const {
   // Orient normals toward the incoming ray (VTK flips normals of back faces)
-  Vec3 d = glm::normalize(ray.dir);
-  bool backFace = glm::dot(sp.ng, d) > 0.0;
+  const Vec3 d = glm::normalize(ray.dir);
+  const bool backFace = glm::dot(sp.ng, d) > 0.0;
   Vec3 nf = backFace ? -sp.ns : sp.ns;
-  Vec3 ngf = backFace ? -sp.ng : sp.ng;
-  Vec3 v = (depth == 0 && s_.viewFromEye) ? glm::normalize(s_.eye - sp.p) : -d;
+  const Vec3 v = (depth == 0 && s_.viewFromEye) ? glm::normalize(s_.eye - sp.p) : -d;
+  h.d = d;
+  h.backFace = backFace;
+  h.ngf = backFace ? -sp.ng : sp.ng;
 
   // The material: the back material on back faces (VTK's BackfaceProperty), the edge material within half the
   // edge width of a drawn edge (lit as VTK lights lines over a surface: facing the viewer)
   const Material* mp = &scene_.material(sp.material);
   if (backFace && mp->backMaterial >= 0) mp = &scene_.material(uint32_t(mp->backMaterial));
   const double pathHere = scene_.features().edges ? ps.pathLength + hit.t * glm::length(ray.dir) : 0.0;
-  // Constructed only on edge pixels. Performance note: a union, not std::optional, whose storage the compiler
-  // zero-fills at every hit (Material is trivially destructible, so nothing needs to end its life)
-  union EdgeSlot {
-    EdgeSlot() {}
-    Material m;
-  } edge;
+  h.pathHere = pathHere;
   if (scene_.features().edges && mp->edgeWidth > 0.0f) {
     const double halfWidth = 0.5 * double(mp->edgeWidth) * (s_.pixelSize + s_.pixelAngle * pathHere);
     if (halfWidth > 0.0 && scene_.edgeDistance(ray, hit, sp.p) <= halfWidth) {
-      new (&edge.m) Material(edgeMaterial(*mp));
-      mp = &edge.m;
+      new (&h.edge.m) Material(edgeMaterial(*mp));
+      mp = &h.edge.m;
       nf = v;
     }
   }
   const Material& m = *mp;
+  h.m = mp;
 
   // Local shading, weighted by opacity as VTK blends it
   float opacity = m.opacity * (sp.hasColor && m.colorSource != ColorSource::Material ? sp.color.a : 1.0f);
@@ -292,7 +275,67 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
   const float bodyShare = bw < opacity ? bw / opacity : 1.0f;
   Color local = bodyShare == 1.0f ? (body + highlight) * texel
                                   : bodyShare * glm::clamp(body * texel, zero, one) + highlight * texel;
-  Color result = opacity * glm::clamp(local, zero, one);
+  h.nf = nf;
+  h.local = opacity * glm::clamp(local, zero, one);
+}
+
+// Beer-Lambert: what a refracted ray brings back after t units inside the medium of m. In double, and only where
+// there is absorption: a path longer than float's range must give exp(-inf) = 0, and no absorption must give 1, not
+// 0 x inf
+static void absorb(Color& c, const Material& m, double t) {
+  for (int i = 0; i < 3; ++i)
+    if (m.absorption[i] > 0.0f) c[i] *= float(std::exp(-double(m.absorption[i]) * t));
+}
+
+Color Integrator::cutRayBound(const Ray& ray, int depth, bool straight, double pathLength, RayStats& st,
+                              PathState& ps, double* tHit) const {
+  // A ray the reference itself would not trace returns nothing (see remainingBound)
+  if (!seriesConverges_ && depth > referenceDepth_) return Color(0.0f);
+  ++st.boundRays;
+  Hit hit;
+  if (!scene_.intersect(ray, hit, &st.nodesVisited)) {
+    // A miss returns exactly what radiance() returns for it (the straight escape's alpha is not colour)
+    if (straight) return scene_.backgroundAlpha * ps.screenBackground;
+    return scene_.environment(ray.dir, up_);
+  }
+  *tHit = hit.t;
+  // A hit returns its local term plus at most k times what its own secondary rays return. Local shading without
+  // shadow rays is its upper bound: a shadow ray only scales a light's terms by a transmittance in [0, 1], and the
+  // clamps and blends after it are monotone. Everything else (vertex colours, textures, edges, headlight, inside
+  // ambient) is the exact term radiance() computes, by the same code.
+  const SurfacePoint sp = scene_.surface(ray, hit);
+  const double pathBefore = ps.pathLength;
+  ps.pathLength = pathLength;
+  HitShading h;
+  shadeHit<false>(ray, hit, sp, depth, Color(0.0f), st, ps, h);
+  ps.pathLength = pathBefore;
+  // Total internal reflection and Fresnel move weight between kr and kt per channel, never add any
+  return h.local + (h.m->reflectance + h.m->transmittance) * remainingBound(depth + 1);
+}
+
+template <bool Reflect, bool Refract, bool Shadows>
+Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straight, RayStats& st, PathState& ps,
+                           double* tHit, Vec3* firstHit) const {
+  Hit hit;
+  if (!scene_.intersect(ray, hit, &st.nodesVisited)) {
+    if (straight) {
+      // Along the camera ray's line: what lies behind the pixel on screen. The background contributes in
+      // proportion to its alpha; the rest is left to what is drawn behind, through the pixel's alpha.
+      float a = scene_.backgroundAlpha;
+      ps.escaped += (weight.x + weight.y + weight.z) / 3.0f * (1.0f - a);
+      return a * ps.screenBackground;
+    }
+    // Reflected or bent: the environment in the ray's direction, an opaque colour contribution
+    return scene_.environment(ray.dir, up_);
+  }
+  if (tHit) *tHit = hit.t;
+  SurfacePoint sp = scene_.surface(ray, hit);
+  if (firstHit) *firstHit = sp.p;
+
+  HitShading h;  // not value-initialised: its edge slot is constructed only on edge pixels
+  shadeHit<Shadows>(ray, hit, sp, depth, weight, st, ps, h);
+  const Material& m = *h.m;
+  Color result = h.local;
   if constexpr (!Reflect && !Refract) {
     if (cutAtDepthZero_) {
       const Color k = s_.reflections ? m.reflectance + m.transmittance : m.transmittance;
@@ -301,6 +344,9 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
   }
 
   if constexpr (Reflect || Refract) {
+    const Vec3 d = h.d, nf = h.nf, ngf = h.ngf;
+    const bool backFace = h.backFace;
+    const double pathHere = h.pathHere;
     Color kr = m.reflectance, kt = m.transmittance;
     Ray refracted;
     bool haveRefracted = false;
@@ -349,29 +395,27 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
       Color w = weight * k;
       float wmax = maxComponent(w);
       if (wmax <= 0.0f) return;
-      if (depth >= s_.maxDepth) {
-        ++st.savedByDepth;
-        ps.truncation += wmax * remainingBound(depth + 1);
-        return;
-      }
-      if (wmax < s_.contributionThreshold) {
-        ++st.savedByThreshold;
-        ps.truncation += wmax * remainingBound(depth + 1);
+      const bool rayStraight = straight && refractedRay && refractedStraight;
+      const bool cutByDepth = depth >= s_.maxDepth;
+      if (cutByDepth || wmax < s_.contributionThreshold) {
+        ++(cutByDepth ? st.savedByDepth : st.savedByThreshold);
+        if (!s_.tightTruncationBound) {
+          ps.truncation += wmax * remainingBound(depth + 1);
+          return;
+        }
+        double t = kInfinity;
+        Color bound = cutRayBound(r, depth + 1, rayStraight, pathHere, st, ps, &t);
+        if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) absorb(bound, m, t);
+        ps.truncation += maxComponent(w * bound);
         return;
       }
       ++counter;
       double t = kInfinity;
-      const bool rayStraight = straight && refractedRay && refractedStraight;
       const double pathBefore = ps.pathLength;
       ps.pathLength = pathHere;
       Color c = radiance<Reflect, Refract, Shadows>(r, depth + 1, w, rayStraight, st, ps, &t, nullptr);
       ps.pathLength = pathBefore;
-      if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) {
-        // The refracted ray travelled t units inside the medium. In double, and only where there is absorption: a
-        // path longer than float's range must give exp(-inf) = 0, and no absorption must give 1, not 0 x inf
-        for (int i = 0; i < 3; ++i)
-          if (m.absorption[i] > 0.0f) c[i] *= float(std::exp(-double(m.absorption[i]) * t));
-      }
+      if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) absorb(c, m, t);
       result += k * c;
     };
 

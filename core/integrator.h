@@ -31,6 +31,12 @@ struct IntegratorSettings {
   /// covers what a render at max(this, maxDepth) and threshold 0 would add. Where the series converges the bound
   /// holds against any depth (the infinite-depth image). Default 16.
   int truncationReferenceDepth = 16;
+  /// Tight truncation bound: each cut secondary ray is traced to its first hit (a bound ray: no shading recursion,
+  /// no shadow rays) and charged what it returns on a miss, or that hit's unshadowed local term plus its kr + kt
+  /// times the scene-wide remaining bound. Off: every cut ray is charged its weight times the scene-wide bound
+  /// (no rays, looser). Colours are the same either way. Default on (the renderer turns it off with
+  /// RenderSettings::errorEstimates off, for interactive frames).
+  bool tightTruncationBound = true;
   /// Pixel footprint for edges of a given width in pixels (Material::edgeWidth): one pixel spans
   /// pixelSize + pixelAngle x L world units across a ray at path length L from the camera (summed over the
   /// path's segments, so exact through plane mirrors, approximate after curved mirrors and refraction).
@@ -47,6 +53,8 @@ struct RayStats {
   uint64_t savedByThreshold = 0;  ///< Secondary rays not traced because their weight was below the threshold.
   uint64_t savedByDepth = 0;      ///< Secondary rays not traced because the depth cap was reached.
   uint64_t nodesVisited = 0;
+  /// Rays traced to the first hit only, to bound what a cut ray would have returned (tightTruncationBound).
+  uint64_t boundRays = 0;
   /// Safety net: camera samples whose colour or alpha came out non-finite and were zeroed. Zero for valid input;
   /// tests assert that, so the net cannot hide a bug.
   uint64_t nonFiniteSamples = 0;
@@ -113,6 +121,30 @@ class Integrator {
   template <bool Shadows>
   Color shadeLocal(const SurfacePoint& sp, const Material& m, const Vec3& n, const Vec3& v, bool inside,
                    RayStats& st, Color& highlight, float& shadowCut) const;
+  /// What local shading found at a hit, for its secondary rays.
+  struct HitShading {
+    Vec3 d, nf, ngf;          ///< Unit ray direction; shading and geometric normals facing the ray.
+    bool backFace;            ///< The ray hit the back of the surface.
+    double pathHere;          ///< Path length from the eye to the hit (edge footprints), 0 without edges.
+    const Material* m;        ///< The material shaded (the back or the edge material where they apply).
+    Color local;              ///< The local term: opacity x the clamped local colour, as blended.
+    /// Storage for an edge material, constructed only on edge pixels. Performance note: a union, not
+    /// std::optional, whose storage the compiler zero-fills at every hit (Material is trivially destructible,
+    /// so nothing needs to end its life)
+    union EdgeSlot {
+      EdgeSlot() {}
+      Material m;
+    } edge;
+  };
+  /// Orients the normals, picks the material and computes the local term at a hit (the part of radiance() that
+  /// the tight truncation bound shares); light cut from shadow rays by the threshold goes to ps.truncation.
+  template <bool Shadows>
+  void shadeHit(const Ray& ray, const Hit& hit, const SurfacePoint& sp, int depth, const Color& weight,
+                RayStats& st, PathState& ps, HitShading& h) const;
+  /// Tight truncation bound of a secondary ray cut at depth (see IntegratorSettings::tightTruncationBound): per
+  /// channel, at least what it would return in the reference. Writes the hit distance to tHit (left on a miss).
+  Color cutRayBound(const Ray& ray, int depth, bool straight, double pathLength, RayStats& st, PathState& ps,
+                    double* tHit) const;
   /// Bound on the radiance (largest channel) a secondary ray at depth childDepth could return in the reference.
   float remainingBound(int childDepth) const {
     if (seriesConverges_) return remaining_[0];

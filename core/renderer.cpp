@@ -62,10 +62,23 @@ class ErrorHistogram {
   std::size_t count_ = 0;
 };
 
+// The integrator settings of the frame: without error estimates (interactive frames) no bound rays are traced
+IntegratorSettings frameIntegratorSettings(const RenderSettings& s) {
+  IntegratorSettings is = s.integrator;
+  is.tightTruncationBound = is.tightTruncationBound && s.errorEstimates;
+  return is;
+}
+
 class FrameJob {
  public:
   FrameJob(const Scene& scene, const Camera& camera, const RenderSettings& s, int w, int h, FrameBuffer& fb)
-      : scene_(scene), camera_(camera), s_(s), w_(w), h_(h), fb_(fb), integ_(scene, s.integrator, camera.up()) {
+      : scene_(scene),
+        camera_(camera),
+        s_(s),
+        w_(w),
+        h_(h),
+        fb_(fb),
+        integ_(scene, frameIntegratorSettings(s), camera.up()) {
     ts_ = std::max(1, s.tileSize);
     tilesX_ = (w + ts_ - 1) / ts_;
     tilesY_ = (h + ts_ - 1) / ts_;

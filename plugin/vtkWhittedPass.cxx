@@ -599,6 +599,7 @@ void vtkWhittedPassInternals::RecordStatistics(
   st->RefractionRays = rays.refraction;
   st->RaysSavedByThreshold = rays.savedByThreshold;
   st->RaysSavedByDepth = rays.savedByDepth;
+  st->BoundRays = rays.boundRays;
   st->NumberOfTriangles = scene.triangles;
   st->NumberOfSpheres = scene.spheres;
   st->NumberOfTubes = scene.tubes;
