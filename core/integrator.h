@@ -69,6 +69,8 @@ struct RayStats {
   /// Everything the per-sample and per-pixel safety nets caught (0 for valid input).
   uint64_t safetyNetCatches() const { return nonFiniteSamples + clampedAlpha + clampedDepth + nonFinitePixels; }
   uint64_t traced() const { return primary + shadow + reflection + refraction; }
+  /// Every ray that walked the scene (traced rays and bound rays): what a sample cost.
+  uint64_t traversals() const { return traced() + boundRays; }
 };
 
 /// Result of one camera ray.

@@ -276,11 +276,11 @@ class FrameJob {
     // Performance note: the stratified samples and the sequence's in two loops (same order), so the sequence's
     // per-pixel hashes, which the compiler hoists out of a joint loop, are not computed for every pixel
     const int strata = std::min(std::max(ps.strata, first), last);
-    const uint64_t rays0 = st.traced();
+    const uint64_t rays0 = st.traversals();
     for (int s = first; s < strata; ++s) addSample(samplePos(px, py, s, ps.strata), integ, ps, st, rowBackground);
     for (int s = strata; s < last; ++s) addSample(sequencePos(px, py, s - ps.strata), integ, ps, st, rowBackground);
     ps.n += last - first;
-    ps.rays += uint32_t(std::min<uint64_t>(st.traced() - rays0, UINT32_MAX - ps.rays));
+    ps.rays += uint32_t(std::min<uint64_t>(st.traversals() - rays0, UINT32_MAX - ps.rays));
   }
 
   // Adds one camera sample at continuous pixel position p to ps
@@ -464,7 +464,7 @@ class FrameJob {
         const double spent = elapsed() - before;
         const double left = std::chrono::duration<double>(*deadline_ - std::chrono::steady_clock::now()).count();
         if (spent > 0.0 && left > 0.0) {
-          const double affordable = double(traced.traced()) / spent * left;
+          const double affordable = double(traced.traversals()) / spent * left;
           if (1.5 * roundRays > affordable) roundRays = affordable;
         }
       }
