@@ -201,10 +201,17 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
         Color t = scene_.transmittance(sr, s_.contributionThreshold, &st.nodesVisited, &cut);
         if (maxComponent(t) <= 0.0f) {
           // Cut by the threshold, the transmittance was below it in every channel: at most that share of this
-          // light's diffuse and specular terms is missing
+          // light's diffuse and specular terms is missing. The tight bound traces the shadow ray again without
+          // the threshold (a bound ray): exactly the transmittance share is missing, 0 if something opaque lies
+          // beyond.
           if (cut) {
             const Color full = float(df) * lc * dif + (wantSpecular ? float(specularFactor()) * lc * spe : Color(0.0f));
-            shadowCut += s_.contributionThreshold * maxComponent(full);
+            if (s_.tightTruncationBound) {
+              ++st.boundRays;
+              shadowCut += maxComponent(scene_.transmittance(sr, 0.0f, &st.nodesVisited) * full);
+            } else {
+              shadowCut += s_.contributionThreshold * maxComponent(full);
+            }
           }
           continue;
         }
