@@ -206,7 +206,7 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
           // beyond.
           if (cut) {
             const Color full = float(df) * lc * dif + (wantSpecular ? float(specularFactor()) * lc * spe : Color(0.0f));
-            if (s_.tightTruncationBound) {
+            if (s_.truncationLookahead > 0) {
               ++st.boundRays;
               shadowCut += maxComponent(scene_.transmittance(sr, 0.0f, &st.nodesVisited) * full);
             } else {
@@ -286,6 +286,65 @@ void Integrator::shadeHit(const Ray& ray, const Hit& hit, const SurfacePoint& sp
   h.local = opacity * glm::clamp(local, zero, one);
 }
 
+template <bool Reflect, bool Refract>
+void Integrator::secondaryRays(const HitShading& h, const SurfacePoint& sp, SecondaryRays& out) const {
+  const Material& m = *h.m;
+  const Vec3 d = h.d, nf = h.nf, ngf = h.ngf;
+  Color& kr = out.kr;
+  Color& kt = out.kt;
+  kr = m.reflectance;
+  kt = m.transmittance;
+  out.haveReflected = out.haveRefracted = out.refractedStraight = false;
+
+  if constexpr (Refract) {
+    if (maxComponent(kt) > 0.0f) {
+      Vec3 tdir = d;
+      out.refractedStraight = true;
+      if (s_.refractions && m.ior != 1.0f) {
+        // Snell's law; entering vs exiting from the geometric normal
+        bool entering = !h.backFace;
+        double eta = entering ? 1.0 / m.ior : double(m.ior);
+        Vec3 n = glm::dot(nf, ngf) > 0.0 ? nf : ngf;
+        double cosi = std::min(1.0, std::max(0.0, -glm::dot(d, n)));
+        double sin2t = eta * eta * (1.0 - cosi * cosi);
+        out.refractedStraight = false;
+        if (sin2t >= 1.0) {
+          kr += kt;  // total internal reflection: the refracted share goes to the reflected ray
+          kt = Color(0.0f);
+        } else {
+          double cost = std::sqrt(1.0 - sin2t);
+          tdir = eta * d + (eta * cosi - cost) * n;
+          if (glm::dot(tdir, ngf) >= 0.0) tdir = eta * d + (eta * glm::dot(-d, ngf) - cost) * ngf;
+          if constexpr (Reflect) {
+            if (s_.fresnel) {
+              // Exact unpolarised dielectric Fresnel reflectance: 0 without an interface (IOR 1, not reached
+              // here), ((n-1)/(n+1))^2 at normal incidence, 1 at grazing. Only with a reflected ray to take the
+              // share: with reflections off, nothing is moved and nothing is lost.
+              float f = float(fresnelDielectric(cosi, cost, eta));
+              kr += kt * f;
+              kt *= 1.0f - f;
+            }
+          }
+        }
+      }
+      if (maxComponent(kt) > 0.0f) {
+        out.refracted.dir = out.refractedStraight ? d : glm::normalize(tdir);
+        out.refracted.origin = offsetRayOrigin(sp.p, sp.pError, sp.ng, out.refracted.dir);
+        out.haveRefracted = true;
+      }
+    }
+  }
+  if constexpr (Reflect) {
+    if (maxComponent(kr) > 0.0f) {
+      Vec3& r = out.reflected.dir;
+      r = glm::normalize(d - 2.0 * glm::dot(d, nf) * nf);
+      if (glm::dot(r, ngf) <= 0.0) r = glm::normalize(d - 2.0 * glm::dot(d, ngf) * ngf);
+      out.reflected.origin = offsetRayOrigin(sp.p, sp.pError, sp.ng, r);
+      out.haveReflected = true;
+    }
+  }
+}
+
 // Beer-Lambert: what a refracted ray brings back after t units inside the medium of m. In double, and only where
 // there is absorption: a path longer than float's range must give exp(-inf) = 0, and no absorption must give 1, not
 // 0 x inf
@@ -294,7 +353,8 @@ static void absorb(Color& c, const Material& m, double t) {
     if (m.absorption[i] > 0.0f) c[i] *= float(std::exp(-double(m.absorption[i]) * t));
 }
 
-Color Integrator::cutRayBound(const Ray& ray, int depth, bool straight, double pathLength, RayStats& st,
+template <bool Reflect, bool Refract>
+Color Integrator::cutRayBound(const Ray& ray, int depth, int levels, bool straight, double pathLength, RayStats& st,
                               PathState& ps, double* tHit) const {
   // A ray the reference itself would not trace returns nothing (see remainingBound)
   if (!seriesConverges_ && depth > referenceDepth_) return Color(0.0f);
@@ -306,18 +366,39 @@ Color Integrator::cutRayBound(const Ray& ray, int depth, bool straight, double p
     return scene_.environment(ray.dir, up_);
   }
   *tHit = hit.t;
-  // A hit returns its local term plus at most k times what its own secondary rays return. Local shading without
-  // shadow rays is its upper bound: a shadow ray only scales a light's terms by a transmittance in [0, 1], and the
-  // clamps and blends after it are monotone. Everything else (vertex colours, textures, edges, headlight, inside
-  // ambient) is the exact term radiance() computes, by the same code.
+  // A hit returns its local term plus what its own secondary rays return. Local shading without shadow rays is its
+  // upper bound: a shadow ray only scales a light's terms by a transmittance in [0, 1], and the clamps and blends
+  // after it are monotone. Everything else (vertex colours, textures, edges, headlight, inside ambient) is the
+  // exact term radiance() computes, by the same code.
   const SurfacePoint sp = scene_.surface(ray, hit);
   const double pathBefore = ps.pathLength;
   ps.pathLength = pathLength;
   HitShading h;
   shadeHit<false>(ray, hit, sp, depth, Color(0.0f), st, ps, h);
   ps.pathLength = pathBefore;
-  // Total internal reflection and Fresnel move weight between kr and kt per channel, never add any
-  return h.local + (h.m->reflectance + h.m->transmittance) * remainingBound(depth + 1);
+  const Material& m = *h.m;
+  if (levels <= 1) {
+    // The secondary rays return at most the remaining bound each; total internal reflection and Fresnel move
+    // weight between kr and kt per channel, never add any
+    return h.local + (m.reflectance + m.transmittance) * remainingBound(depth + 1);
+  }
+  // One more level of bound rays: the hit's secondary rays as radiance() would spawn them, each bounded in turn
+  Color bound = h.local;
+  SecondaryRays sec;
+  secondaryRays<Reflect, Refract>(h, sp, sec);
+  if (sec.haveReflected) {
+    double t = kInfinity;
+    bound += sec.kr * cutRayBound<Reflect, Refract>(sec.reflected, depth + 1, levels - 1, false, h.pathHere, st, ps,
+                                                     &t);
+  }
+  if (sec.haveRefracted) {
+    double t = kInfinity;
+    Color c = cutRayBound<Reflect, Refract>(sec.refracted, depth + 1, levels - 1, straight && sec.refractedStraight,
+                                            h.pathHere, st, ps, &t);
+    if (s_.beerLambert && !h.backFace && std::isfinite(t)) absorb(c, m, t);
+    bound += sec.kt * c;
+  }
+  return bound;
 }
 
 template <bool Reflect, bool Refract, bool Shadows>
@@ -354,50 +435,9 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
     const Vec3 d = h.d, nf = h.nf, ngf = h.ngf;
     const bool backFace = h.backFace;
     const double pathHere = h.pathHere;
-    Color kr = m.reflectance, kt = m.transmittance;
-    Ray refracted;
-    bool haveRefracted = false;
-    bool refractedStraight = false;  // the transmitted ray continues along the incoming line (no interface bend)
-
-    if constexpr (Refract) {
-      if (maxComponent(kt) > 0.0f) {
-        Vec3 tdir = d;
-        refractedStraight = true;
-        if (s_.refractions && m.ior != 1.0f) {
-          // Snell's law; entering vs exiting from the geometric normal
-          bool entering = !backFace;
-          double eta = entering ? 1.0 / m.ior : double(m.ior);
-          Vec3 n = glm::dot(nf, ngf) > 0.0 ? nf : ngf;
-          double cosi = std::min(1.0, std::max(0.0, -glm::dot(d, n)));
-          double sin2t = eta * eta * (1.0 - cosi * cosi);
-          refractedStraight = false;
-          if (sin2t >= 1.0) {
-            kr += kt;  // total internal reflection: the refracted share goes to the reflected ray
-            kt = Color(0.0f);
-          } else {
-            double cost = std::sqrt(1.0 - sin2t);
-            tdir = eta * d + (eta * cosi - cost) * n;
-            if (glm::dot(tdir, ngf) >= 0.0) tdir = eta * d + (eta * glm::dot(-d, ngf) - cost) * ngf;
-            if constexpr (Reflect) {
-              if (s_.fresnel) {
-                // Exact unpolarised dielectric Fresnel reflectance: 0 without an interface (IOR 1, not reached
-                // here), ((n-1)/(n+1))^2 at normal incidence, 1 at grazing. Only with a reflected ray to take the
-                // share: with reflections off, nothing is moved and nothing is lost.
-                float f = float(fresnelDielectric(cosi, cost, eta));
-                kr += kt * f;
-                kt *= 1.0f - f;
-              }
-            }
-          }
-        }
-        if (maxComponent(kt) > 0.0f) {
-          refracted.dir = refractedStraight ? d : glm::normalize(tdir);
-          refracted.origin = offsetRayOrigin(sp.p, sp.pError, sp.ng, refracted.dir);
-          haveRefracted = true;
-        }
-      }
-    }
-
+    SecondaryRays sec;
+    secondaryRays<Reflect, Refract>(h, sp, sec);
+    const bool refractedStraight = sec.refractedStraight;
     auto spawn = [&](const Ray& r, const Color& k, uint64_t& counter, bool refractedRay) {
       Color w = weight * k;
       float wmax = maxComponent(w);
@@ -406,12 +446,13 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
       const bool cutByDepth = depth >= s_.maxDepth;
       if (cutByDepth || wmax < s_.contributionThreshold) {
         ++(cutByDepth ? st.savedByDepth : st.savedByThreshold);
-        if (!s_.tightTruncationBound) {
+        if (s_.truncationLookahead <= 0) {
           ps.truncation += wmax * remainingBound(depth + 1);
           return;
         }
         double t = kInfinity;
-        Color bound = cutRayBound(r, depth + 1, rayStraight, pathHere, st, ps, &t);
+        Color bound =
+            cutRayBound<Reflect, Refract>(r, depth + 1, s_.truncationLookahead, rayStraight, pathHere, st, ps, &t);
         if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) absorb(bound, m, t);
         ps.truncation += maxComponent(w * bound);
         return;
@@ -426,16 +467,8 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
       result += k * c;
     };
 
-    if constexpr (Reflect) {
-      if (maxComponent(kr) > 0.0f) {
-        Ray r;
-        r.dir = glm::normalize(d - 2.0 * glm::dot(d, nf) * nf);
-        if (glm::dot(r.dir, ngf) <= 0.0) r.dir = glm::normalize(d - 2.0 * glm::dot(d, ngf) * ngf);
-        r.origin = offsetRayOrigin(sp.p, sp.pError, sp.ng, r.dir);
-        spawn(r, kr, st.reflection, false);
-      }
-    }
-    if (haveRefracted) spawn(refracted, kt, st.refraction, true);
+    if (sec.haveReflected) spawn(sec.reflected, sec.kr, st.reflection, false);
+    if (sec.haveRefracted) spawn(sec.refracted, sec.kt, st.refraction, true);
   }
   return result;
 }

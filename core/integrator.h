@@ -31,12 +31,14 @@ struct IntegratorSettings {
   /// covers what a render at max(this, maxDepth) and threshold 0 would add. Where the series converges the bound
   /// holds against any depth (the infinite-depth image). Default 16.
   int truncationReferenceDepth = 16;
-  /// Tight truncation bound: each cut secondary ray is traced to its first hit (a bound ray: no shading recursion,
-  /// no shadow rays) and charged what it returns on a miss, or that hit's unshadowed local term plus its kr + kt
-  /// times the scene-wide remaining bound. Off: every cut ray is charged its weight times the scene-wide bound
-  /// (no rays, looser). Colours are the same either way. Default on (the renderer turns it off with
-  /// RenderSettings::errorEstimates off, for interactive frames).
-  bool tightTruncationBound = true;
+  /// Tight truncation bound: levels of bound rays per cut ray. Each secondary ray cut by the depth cap or the
+  /// threshold is traced to its first hit only (a bound ray: no shadow rays) and charged what it returns on a miss,
+  /// or that hit's unshadowed local term plus, at the last level, its kr + kt times the scene-wide remaining bound,
+  /// else what the hit's own secondary rays return, bounded the same way one level further (up to 2^levels - 1
+  /// bound rays per cut ray); a shadow ray cut by the threshold is traced again without it. 0: every cut ray is
+  /// charged its weight times the scene-wide bound (no rays, looser). Colours are the same either way. Default 1
+  /// (the renderer uses 0 with RenderSettings::errorEstimates off, for interactive frames).
+  int truncationLookahead = 1;
   /// Pixel footprint for edges of a given width in pixels (Material::edgeWidth): one pixel spans
   /// pixelSize + pixelAngle x L world units across a ray at path length L from the camera (summed over the
   /// path's segments, so exact through plane mirrors, approximate after curved mirrors and refraction).
@@ -53,7 +55,7 @@ struct RayStats {
   uint64_t savedByThreshold = 0;  ///< Secondary rays not traced because their weight was below the threshold.
   uint64_t savedByDepth = 0;      ///< Secondary rays not traced because the depth cap was reached.
   uint64_t nodesVisited = 0;
-  /// Rays traced to the first hit only, to bound what a cut ray would have returned (tightTruncationBound).
+  /// Rays traced to the first hit only, to bound what a cut ray would have returned (truncationLookahead).
   uint64_t boundRays = 0;
   /// Safety net: camera samples whose colour or alpha came out non-finite and were zeroed. Zero for valid input;
   /// tests assert that, so the net cannot hide a bug.
@@ -143,10 +145,21 @@ class Integrator {
   template <bool Shadows>
   void shadeHit(const Ray& ray, const Hit& hit, const SurfacePoint& sp, int depth, const Color& weight,
                 RayStats& st, PathState& ps, HitShading& h) const;
-  /// Tight truncation bound of a secondary ray cut at depth (see IntegratorSettings::tightTruncationBound): per
-  /// channel, at least what it would return in the reference. Writes the hit distance to tHit (left on a miss).
-  Color cutRayBound(const Ray& ray, int depth, bool straight, double pathLength, RayStats& st, PathState& ps,
-                    double* tHit) const;
+  /// The secondary rays radiance() spawns at a hit: the weights after total internal reflection and Fresnel.
+  struct SecondaryRays {
+    Color kr, kt;
+    Ray reflected, refracted;
+    bool haveReflected, haveRefracted;
+    bool refractedStraight;  ///< The transmitted ray continues along the incoming line (no interface bend).
+  };
+  template <bool Reflect, bool Refract>
+  void secondaryRays(const HitShading& h, const SurfacePoint& sp, SecondaryRays& out) const;
+  /// Tight truncation bound of a secondary ray cut at depth, with levels of bound rays (see
+  /// IntegratorSettings::truncationLookahead): per channel, at least what it would return in the reference.
+  /// Writes the hit distance to tHit (left on a miss).
+  template <bool Reflect, bool Refract>
+  Color cutRayBound(const Ray& ray, int depth, int levels, bool straight, double pathLength, RayStats& st,
+                    PathState& ps, double* tHit) const;
   /// Bound on the radiance (largest channel) a secondary ray at depth childDepth could return in the reference.
   float remainingBound(int childDepth) const {
     if (seriesConverges_) return remaining_[0];

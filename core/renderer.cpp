@@ -65,7 +65,7 @@ class ErrorHistogram {
 // The integrator settings of the frame: without error estimates (interactive frames) no bound rays are traced
 IntegratorSettings frameIntegratorSettings(const RenderSettings& s) {
   IntegratorSettings is = s.integrator;
-  is.tightTruncationBound = is.tightTruncationBound && s.errorEstimates;
+  if (!s.errorEstimates) is.truncationLookahead = 0;
   return is;
 }
 
