@@ -433,3 +433,54 @@ TEST(ErrorEstimate, RoundCutShortIsFinishedByTheNextCall) {
     EXPECT_TRUE(state.pending.empty()) << how;
   }
 }
+
+// Progressive refinement picks pixels by gain per *ray*, not per sample: a checkerboard whose right half is seen
+// through a clear slab (kt 1, IOR 1: the same image, but three rays per sample instead of one) has the same
+// sampling estimates on both halves. Picking by gain per sample refines both halves alike (measured, with rays per
+// sample forced to 1: 1056 left and 1032 right pixels in the first round); picking by gain per ray takes the cheap
+// left half first (1056 and 0).
+TEST(ErrorEstimate, RefinementPicksByGainPerRay) {
+  Scene s;
+  const Color4 dark(Color(0.1f), 1.0f), light(Color(0.9f), 1.0f);
+  Material floor;
+  floor.lighting = false;  // unlit: one ray per sample, no shadow rays
+  floor.ambient = 1.0f;
+  floor.diffuse = 0.0f;
+  floor.colorSource = ColorSource::ScalarsAmbientAndDiffuse;
+  s.addInstance(s.addMesh(makeGrid(Vec3(-2, -1.5, 0), Vec3(4, 0, 0), Vec3(0, 3, 0), 16, 12, &dark, &light)),
+                Mat4(1.0), s.addMaterial(floor));
+  Material clear;
+  clear.lighting = false;
+  clear.ambient = clear.diffuse = clear.specular = 0.0f;
+  clear.transmittance = Color(1.0f);
+  clear.ior = 1.0f;
+  s.addInstance(s.addMesh(makeBoxMesh(Vec3(0, -3, 1), Vec3(4, 3, 1.5))), Mat4(1.0), s.addMaterial(clear));
+  s.commit();
+  CameraSpec cs;
+  const int w = 64, h = 48;
+  const Camera cam = cs.make(double(w) / h, s.bounds());
+
+  RefinementState state;
+  RenderSettings rs;
+  rs.targetError = 1e-4;
+  rs.refinement = &state;
+  rs.maxRefinementRounds = 1;
+  FrameBuffer fb;
+  const FrameStats fs = render(s, cam, rs, w, h, fb);
+  ASSERT_EQ(fs.refinementRounds, 1);
+  // Pixels refined in each half (a margin around the slab's edge at the centre), and the sampling estimates there
+  int refined[2] = {0, 0}, estimated[2] = {0, 0};
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (std::abs(x - w / 2) < 3) continue;
+      const std::size_t i = std::size_t(y) * w + x;
+      const int half = x < w / 2 ? 0 : 1;
+      if (fb.samples[i] > 1) ++refined[half];
+      if (fb.sampling[i] > 0.0f) ++estimated[half];
+    }
+  std::printf("refined left %d, right %d (pixels with a sampling estimate: %d, %d)\n", refined[0], refined[1],
+              estimated[0], estimated[1]);
+  ASSERT_GT(estimated[1], 50);  // the right half has as much to refine as the left
+  EXPECT_GT(refined[0], 50);
+  EXPECT_LT(4 * refined[1], refined[0]);
+}
