@@ -14,6 +14,7 @@ RayStats& RayStats::operator+=(const RayStats& o) {
   savedByThreshold += o.savedByThreshold;
   savedByDepth += o.savedByDepth;
   nodesVisited += o.nodesVisited;
+  boundRays += o.boundRays;
   nonFiniteSamples += o.nonFiniteSamples;
   clampedAlpha += o.clampedAlpha;
   clampedDepth += o.clampedDepth;
@@ -342,10 +343,17 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
         ++st.shadow;
         if (maxComponent(t) <= 0.0f) {
           // Cut by the threshold, the transmittance was below it in every channel: at most that share of this
-          // light's diffuse and specular terms is missing
+          // light's diffuse and specular terms is missing. The tight bound traces the shadow ray again without
+          // the threshold (a bound ray): exactly the transmittance share is missing, 0 if something opaque lies
+          // beyond.
           if (cut) {
             const Color full = float(df) * lc * dif + (wantSpecular ? float(specularFactor()) * lc * spe : Color(0.0f));
-            shadowCut += s_.contributionThreshold * maxComponent(full);
+            if (s_.truncationLookahead > 0) {
+              ++st.boundRays;
+              shadowCut += maxComponent(scene_.transmittance(sr, 0.0f, &st.nodesVisited) * full);
+            } else {
+              shadowCut += s_.contributionThreshold * maxComponent(full);
+            }
           }
           continue;
         }
@@ -388,6 +396,158 @@ void Integrator::frameHit(const Ray& ray, const Hit& hit, int depth, const PathS
   }
 }
 
+
+template <bool Shadows, typename ShadowFn>
+Color Integrator::localTerm(const HitFrame& f, const Color& weight, RayStats& st, PathState& ps,
+                            ShadowFn& shadows) const {
+  const SurfacePoint& sp = f.sp;
+  const Material& m = f.material();
+  // Local shading, weighted by opacity as VTK blends it
+  float opacity = m.opacity * (sp.hasColor && m.colorSource != ColorSource::Material ? sp.color.a : 1.0f);
+  // Inside-ness is a property of the material, not of the kernel: an opaque back face keeps its ambient term
+  // whether or not the scene holds a transmissive actor elsewhere
+  const bool inside = f.backFace && maxComponent(m.transmittance) > 0.0f;
+  Color highlight;
+  float shadowCut = 0.0f;
+  const Color body = shadeLocal<Shadows>(sp, m, f.nf, f.v, inside, st, highlight, shadowCut, shadows);
+  // Light the threshold cut from shadow rays: clamping, the body share and the texture factor (<= 1) can only
+  // shrink it
+  if (shadowCut > 0.0f) ps.truncation += maxComponent(weight) * opacity * shadowCut;
+  Color texel(1.0f);
+  if (scene_.features().textures && m.texture >= 0 && sp.hasUV) {
+    Color4 tc = scene_.texture(uint32_t(m.texture)).sample(sp.uv.x, sp.uv.y);
+    texel = Color(tc);
+    opacity *= tc.a;
+  }
+  // The energy rule (bodyWeight): the body colour keeps the share of the opacity that reflection and transmission
+  // leave, the highlight the whole opacity. VTK's shader writes each surface's colour clamped to [0, 1] before
+  // blending it: so does the local term here, so a translucent surface over a highlight blends as VTK's image
+  // does, and a body share applies to the body colour as VTK would write it (clamped: an over-lit body cannot
+  // exceed its share). bodyShare is exactly 1 for VTK's translucency (x / x): that case computes VTK's blend.
+  const Color zero(0.0f), one(1.0f);
+  const float bw = bodyWeight(m, opacity);
+  const float bodyShare = bw < opacity ? bw / opacity : 1.0f;
+  Color local = bodyShare == 1.0f ? (body + highlight) * texel
+                                  : bodyShare * glm::clamp(body * texel, zero, one) + highlight * texel;
+  return opacity * glm::clamp(local, zero, one);
+}
+
+template <bool Reflect, bool Refract>
+void Integrator::secondaryRays(const HitFrame& f, SecondaryRays& out) const {
+  const Material& m = f.material();
+  const SurfacePoint& sp = f.sp;
+  const Vec3 &d = f.d, &nf = f.nf, &ngf = f.ngf;
+  Color& kr = out.kr;
+  Color& kt = out.kt;
+  kr = m.reflectance;
+  kt = m.transmittance;
+  out.haveReflected = out.haveRefracted = out.refractedStraight = false;
+
+  if constexpr (Refract) {
+    if (maxComponent(kt) > 0.0f) {
+      Vec3 tdir = d;
+      out.refractedStraight = true;
+      if (s_.refractions && m.ior != 1.0f) {
+        // Snell's law; entering vs exiting from the geometric normal
+        bool entering = !f.backFace;
+        double eta = entering ? 1.0 / m.ior : double(m.ior);
+        Vec3 n = glm::dot(nf, ngf) > 0.0 ? nf : ngf;
+        double cosi = std::min(1.0, std::max(0.0, -glm::dot(d, n)));
+        double sin2t = eta * eta * (1.0 - cosi * cosi);
+        out.refractedStraight = false;
+        if (sin2t >= 1.0) {
+          kr += kt;  // total internal reflection: the refracted share goes to the reflected ray
+          kt = Color(0.0f);
+        } else {
+          double cost = std::sqrt(1.0 - sin2t);
+          tdir = eta * d + (eta * cosi - cost) * n;
+          if (glm::dot(tdir, ngf) >= 0.0) tdir = eta * d + (eta * glm::dot(-d, ngf) - cost) * ngf;
+          if constexpr (Reflect) {
+            if (s_.fresnel) {
+              // Exact unpolarised dielectric Fresnel reflectance: 0 without an interface (IOR 1, not reached
+              // here), ((n-1)/(n+1))^2 at normal incidence, 1 at grazing. Only with a reflected ray to take the
+              // share: with reflections off, nothing is moved and nothing is lost.
+              float fr = float(fresnelDielectric(cosi, cost, eta));
+              kr += kt * fr;
+              kt *= 1.0f - fr;
+            }
+          }
+        }
+      }
+      if (maxComponent(kt) > 0.0f) {
+        out.refracted.dir = out.refractedStraight ? d : glm::normalize(tdir);
+        out.refracted.origin = offsetRayOrigin(sp.p, sp.pError, sp.ng, out.refracted.dir);
+        out.haveRefracted = true;
+      }
+    }
+  }
+  if constexpr (Reflect) {
+    if (maxComponent(kr) > 0.0f) {
+      Vec3& r = out.reflected.dir;
+      r = glm::normalize(d - 2.0 * glm::dot(d, nf) * nf);
+      if (glm::dot(r, ngf) <= 0.0) r = glm::normalize(d - 2.0 * glm::dot(d, ngf) * ngf);
+      out.reflected.origin = offsetRayOrigin(sp.p, sp.pError, sp.ng, r);
+      out.haveReflected = true;
+    }
+  }
+}
+
+// Beer-Lambert: what a refracted ray brings back after t units inside the medium of m. In double, and only where
+// there is absorption: a path longer than float's range must give exp(-inf) = 0, and no absorption must give 1, not
+// 0 x inf
+static void absorb(Color& c, const Material& m, double t) {
+  for (int i = 0; i < 3; ++i)
+    if (m.absorption[i] > 0.0f) c[i] *= float(std::exp(-double(m.absorption[i]) * t));
+}
+
+template <bool Reflect, bool Refract>
+Color Integrator::cutRayBound(const Ray& ray, int depth, int levels, bool straight, double pathLength, RayStats& st,
+                              PathState& ps, double* tHit) const {
+  // A ray the reference itself would not trace returns nothing (see remainingBound)
+  if (!seriesConverges_ && depth > referenceDepth_) return Color(0.0f);
+  ++st.boundRays;
+  Hit hit;
+  if (!scene_.intersect(ray, hit, &st.nodesVisited)) {
+    // A miss returns exactly what radiance() returns for it (the straight escape's alpha is not colour)
+    if (straight) return scene_.backgroundAlpha * ps.screenBackground;
+    return scene_.environment(ray.dir, up_);
+  }
+  *tHit = hit.t;
+  // A hit returns its local term plus what its own secondary rays return. Local shading without shadow rays is its
+  // upper bound: a shadow ray only scales a light's terms by a transmittance in [0, 1], and the clamps and blends
+  // after it are monotone. Everything else (vertex colours, textures, edges, headlight, inside ambient) is the
+  // exact term radiance() computes, by the same code.
+  const double pathBefore = ps.pathLength;
+  ps.pathLength = pathLength;
+  HitFrame f;
+  frameHit(ray, hit, depth, ps, f);
+  ps.pathLength = pathBefore;
+  TraceShadows none{scene_};  // not called: no shadow rays
+  Color bound = localTerm<false>(f, Color(0.0f), st, ps, none);
+  const Material& m = f.material();
+  if (levels <= 1) {
+    // The secondary rays return at most the remaining bound each; total internal reflection and Fresnel move
+    // weight between kr and kt per channel, never add any
+    return bound + (m.reflectance + m.transmittance) * remainingBound(depth + 1);
+  }
+  // One more level of bound rays: the hit's secondary rays as radiance() would spawn them, each bounded in turn
+  SecondaryRays sec;
+  secondaryRays<Reflect, Refract>(f, sec);
+  if (sec.haveReflected) {
+    double t = kInfinity;
+    bound += sec.kr * cutRayBound<Reflect, Refract>(sec.reflected, depth + 1, levels - 1, false, f.pathHere, st, ps,
+                                                     &t);
+  }
+  if (sec.haveRefracted) {
+    double t = kInfinity;
+    Color c = cutRayBound<Reflect, Refract>(sec.refracted, depth + 1, levels - 1, straight && sec.refractedStraight,
+                                            f.pathHere, st, ps, &t);
+    if (s_.beerLambert && !f.backFace && std::isfinite(t)) absorb(c, m, t);
+    bound += sec.kt * c;
+  }
+  return bound;
+}
+
 template <bool Reflect, bool Refract, bool Shadows>
 Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straight, RayStats& st, PathState& ps,
                            double* tHit, Vec3* firstHit, const FirstHit* pre) const {
@@ -409,47 +569,16 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
   const HitFrame& f = pre ? pre->frame : own;
   if (tHit) *tHit = hit.t;
   if (firstHit) *firstHit = f.sp.p;
-  const SurfacePoint& sp = f.sp;
-  const Vec3 &d = f.d, &nf = f.nf, &ngf = f.ngf, &v = f.v;
-  const bool backFace = f.backFace;
-  const double pathHere = f.pathHere;
   const Material& m = f.material();
 
-  // Local shading, weighted by opacity as VTK blends it
-  float opacity = m.opacity * (sp.hasColor && m.colorSource != ColorSource::Material ? sp.color.a : 1.0f);
-  // Inside-ness is a property of the material, not of the kernel: an opaque back face keeps its ambient term
-  // whether or not the scene holds a transmissive actor elsewhere
-  const bool inside = backFace && maxComponent(m.transmittance) > 0.0f;
-  Color highlight;
-  float shadowCut = 0.0f;
-  Color body;
+  Color result;
   if (pre) {
     AnsweredShadows answered{scene_, *pre};
-    body = shadeLocal<Shadows>(sp, m, nf, v, inside, st, highlight, shadowCut, answered);
+    result = localTerm<Shadows>(f, weight, st, ps, answered);
   } else {
     TraceShadows traced{scene_};
-    body = shadeLocal<Shadows>(sp, m, nf, v, inside, st, highlight, shadowCut, traced);
+    result = localTerm<Shadows>(f, weight, st, ps, traced);
   }
-  // Light the threshold cut from shadow rays: clamping, the body share and the texture factor (<= 1) can only
-  // shrink it
-  if (shadowCut > 0.0f) ps.truncation += maxComponent(weight) * opacity * shadowCut;
-  Color texel(1.0f);
-  if (scene_.features().textures && m.texture >= 0 && sp.hasUV) {
-    Color4 tc = scene_.texture(uint32_t(m.texture)).sample(sp.uv.x, sp.uv.y);
-    texel = Color(tc);
-    opacity *= tc.a;
-  }
-  // The energy rule (bodyWeight): the body colour keeps the share of the opacity that reflection and transmission
-  // leave, the highlight the whole opacity. VTK's shader writes each surface's colour clamped to [0, 1] before
-  // blending it: so does the local term here, so a translucent surface over a highlight blends as VTK's image
-  // does, and a body share applies to the body colour as VTK would write it (clamped: an over-lit body cannot
-  // exceed its share). bodyShare is exactly 1 for VTK's translucency (x / x): that case computes VTK's blend.
-  const Color zero(0.0f), one(1.0f);
-  const float bw = bodyWeight(m, opacity);
-  const float bodyShare = bw < opacity ? bw / opacity : 1.0f;
-  Color local = bodyShare == 1.0f ? (body + highlight) * texel
-                                  : bodyShare * glm::clamp(body * texel, zero, one) + highlight * texel;
-  Color result = opacity * glm::clamp(local, zero, one);
   if constexpr (!Reflect && !Refract) {
     if (cutAtDepthZero_) {
       const Color k = s_.reflections ? m.reflectance + m.transmittance : m.transmittance;
@@ -458,90 +587,41 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
   }
 
   if constexpr (Reflect || Refract) {
-    Color kr = m.reflectance, kt = m.transmittance;
-    Ray refracted;
-    bool haveRefracted = false;
-    bool refractedStraight = false;  // the transmitted ray continues along the incoming line (no interface bend)
-
-    if constexpr (Refract) {
-      if (maxComponent(kt) > 0.0f) {
-        Vec3 tdir = d;
-        refractedStraight = true;
-        if (s_.refractions && m.ior != 1.0f) {
-          // Snell's law; entering vs exiting from the geometric normal
-          bool entering = !backFace;
-          double eta = entering ? 1.0 / m.ior : double(m.ior);
-          Vec3 n = glm::dot(nf, ngf) > 0.0 ? nf : ngf;
-          double cosi = std::min(1.0, std::max(0.0, -glm::dot(d, n)));
-          double sin2t = eta * eta * (1.0 - cosi * cosi);
-          refractedStraight = false;
-          if (sin2t >= 1.0) {
-            kr += kt;  // total internal reflection: the refracted share goes to the reflected ray
-            kt = Color(0.0f);
-          } else {
-            double cost = std::sqrt(1.0 - sin2t);
-            tdir = eta * d + (eta * cosi - cost) * n;
-            if (glm::dot(tdir, ngf) >= 0.0) tdir = eta * d + (eta * glm::dot(-d, ngf) - cost) * ngf;
-            if constexpr (Reflect) {
-              if (s_.fresnel) {
-                // Exact unpolarised dielectric Fresnel reflectance: 0 without an interface (IOR 1, not reached
-                // here), ((n-1)/(n+1))^2 at normal incidence, 1 at grazing. Only with a reflected ray to take the
-                // share: with reflections off, nothing is moved and nothing is lost.
-                float f = float(fresnelDielectric(cosi, cost, eta));
-                kr += kt * f;
-                kt *= 1.0f - f;
-              }
-            }
-          }
-        }
-        if (maxComponent(kt) > 0.0f) {
-          refracted.dir = refractedStraight ? d : glm::normalize(tdir);
-          refracted.origin = offsetRayOrigin(sp.p, sp.pError, sp.ng, refracted.dir);
-          haveRefracted = true;
-        }
-      }
-    }
-
+    const bool backFace = f.backFace;
+    const double pathHere = f.pathHere;
+    SecondaryRays sec;
+    secondaryRays<Reflect, Refract>(f, sec);
     auto spawn = [&](const Ray& r, const Color& k, uint64_t& counter, bool refractedRay) {
       Color w = weight * k;
       float wmax = maxComponent(w);
       if (wmax <= 0.0f) return;
-      if (depth >= s_.maxDepth) {
-        ++st.savedByDepth;
-        ps.truncation += wmax * remainingBound(depth + 1);
-        return;
-      }
-      if (wmax < s_.contributionThreshold) {
-        ++st.savedByThreshold;
-        ps.truncation += wmax * remainingBound(depth + 1);
+      const bool rayStraight = straight && refractedRay && sec.refractedStraight;
+      const bool cutByDepth = depth >= s_.maxDepth;
+      if (cutByDepth || wmax < s_.contributionThreshold) {
+        ++(cutByDepth ? st.savedByDepth : st.savedByThreshold);
+        if (s_.truncationLookahead <= 0) {
+          ps.truncation += wmax * remainingBound(depth + 1);
+          return;
+        }
+        double t = kInfinity;
+        Color bound =
+            cutRayBound<Reflect, Refract>(r, depth + 1, s_.truncationLookahead, rayStraight, pathHere, st, ps, &t);
+        if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) absorb(bound, m, t);
+        ps.truncation += maxComponent(w * bound);
         return;
       }
       ++counter;
       double t = kInfinity;
-      const bool rayStraight = straight && refractedRay && refractedStraight;
       const double pathBefore = ps.pathLength;
       ps.pathLength = pathHere;
       Color c = radiance<Reflect, Refract, Shadows>(r, depth + 1, w, rayStraight, st, ps, &t, nullptr, nullptr);
       ps.pathLength = pathBefore;
-      if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) {
-        // The refracted ray travelled t units inside the medium. In double, and only where there is absorption: a
-        // path longer than float's range must give exp(-inf) = 0, and no absorption must give 1, not 0 x inf
-        for (int i = 0; i < 3; ++i)
-          if (m.absorption[i] > 0.0f) c[i] *= float(std::exp(-double(m.absorption[i]) * t));
-      }
+      if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) absorb(c, m, t);
       result += k * c;
     };
 
-    if constexpr (Reflect) {
-      if (maxComponent(kr) > 0.0f) {
-        Ray r;
-        r.dir = glm::normalize(d - 2.0 * glm::dot(d, nf) * nf);
-        if (glm::dot(r.dir, ngf) <= 0.0) r.dir = glm::normalize(d - 2.0 * glm::dot(d, ngf) * ngf);
-        r.origin = offsetRayOrigin(sp.p, sp.pError, sp.ng, r.dir);
-        spawn(r, kr, st.reflection, false);
-      }
-    }
-    if (haveRefracted) spawn(refracted, kt, st.refraction, true);
+    if (sec.haveReflected) spawn(sec.reflected, sec.kr, st.reflection, false);
+    if (sec.haveRefracted) spawn(sec.refracted, sec.kt, st.refraction, true);
   }
   return result;
 }

@@ -31,6 +31,14 @@ struct IntegratorSettings {
   /// covers what a render at max(this, maxDepth) and threshold 0 would add. Where the series converges the bound
   /// holds against any depth (the infinite-depth image). Default 16.
   int truncationReferenceDepth = 16;
+  /// Tight truncation bound: levels of bound rays per cut ray. Each secondary ray cut by the depth cap or the
+  /// threshold is traced to its first hit only (a bound ray: no shadow rays) and charged what it returns on a miss,
+  /// or that hit's unshadowed local term plus, at the last level, its kr + kt times the scene-wide remaining bound,
+  /// else what the hit's own secondary rays return, bounded the same way one level further (up to 2^levels - 1
+  /// bound rays per cut ray); a shadow ray cut by the threshold is traced again without it. 0: every cut ray is
+  /// charged its weight times the scene-wide bound (no rays, looser). Colours are the same either way. Default 1
+  /// (the renderer uses 0 with RenderSettings::errorEstimates off, for interactive frames).
+  int truncationLookahead = 1;
   /// Pixel footprint for edges of a given width in pixels (Material::edgeWidth): one pixel spans
   /// pixelSize + pixelAngle x L world units across a ray at path length L from the camera (summed over the
   /// path's segments, so exact through plane mirrors, approximate after curved mirrors and refraction).
@@ -51,6 +59,8 @@ struct RayStats {
   uint64_t savedByThreshold = 0;  ///< Secondary rays not traced because their weight was below the threshold.
   uint64_t savedByDepth = 0;      ///< Secondary rays not traced because the depth cap was reached.
   uint64_t nodesVisited = 0;
+  /// Rays traced to the first hit only, to bound what a cut ray would have returned (truncationLookahead).
+  uint64_t boundRays = 0;
   /// Safety net: camera samples whose colour or alpha came out non-finite and were zeroed. Zero for valid input;
   /// tests assert that, so the net cannot hide a bug.
   uint64_t nonFiniteSamples = 0;
@@ -65,6 +75,8 @@ struct RayStats {
   /// Everything the per-sample and per-pixel safety nets caught (0 for valid input).
   uint64_t safetyNetCatches() const { return nonFiniteSamples + clampedAlpha + clampedDepth + nonFinitePixels; }
   uint64_t traced() const { return primary + shadow + reflection + refraction; }
+  /// Every ray that walked the scene (traced rays and bound rays): what a sample cost.
+  uint64_t traversals() const { return traced() + boundRays; }
 };
 
 /// Result of one camera ray.
@@ -138,6 +150,25 @@ class Integrator {
   /// trace()'s start and end around the kernel call.
   void startPath(const Ray& ray, const Color& screenBackground, PathState& ps) const;
   Sample finishPath(const Color& color, double tHit, const Vec3& first, const PathState& ps, RayStats& stats) const;
+  /// The local term at a hit (radiance's second step): opacity x the clamped local colour, as blended. Light cut
+  /// from shadow rays by the threshold goes to ps.truncation (weighted by weight).
+  template <bool Shadows, typename ShadowFn>
+  Color localTerm(const HitFrame& f, const Color& weight, RayStats& st, PathState& ps, ShadowFn& shadows) const;
+  /// The secondary rays radiance() spawns at a hit: the weights after total internal reflection and Fresnel.
+  struct SecondaryRays {
+    Color kr, kt;
+    Ray reflected, refracted;
+    bool haveReflected, haveRefracted;
+    bool refractedStraight;  ///< The transmitted ray continues along the incoming line (no interface bend).
+  };
+  template <bool Reflect, bool Refract>
+  void secondaryRays(const HitFrame& f, SecondaryRays& out) const;
+  /// Tight truncation bound of a secondary ray cut at depth, with levels of bound rays (see
+  /// IntegratorSettings::truncationLookahead): per channel, at least what it would return in the reference.
+  /// Writes the hit distance to tHit (left on a miss).
+  template <bool Reflect, bool Refract>
+  Color cutRayBound(const Ray& ray, int depth, int levels, bool straight, double pathLength, RayStats& st,
+                    PathState& ps, double* tHit) const;
   /// Bound on the radiance (largest channel) a secondary ray at depth childDepth could return in the reference.
   float remainingBound(int childDepth) const {
     if (seriesConverges_) return remaining_[0];

@@ -62,10 +62,23 @@ class ErrorHistogram {
   std::size_t count_ = 0;
 };
 
+// The integrator settings of the frame: without error estimates (interactive frames) no bound rays are traced
+IntegratorSettings frameIntegratorSettings(const RenderSettings& s) {
+  IntegratorSettings is = s.integrator;
+  if (!s.errorEstimates) is.truncationLookahead = 0;
+  return is;
+}
+
 class FrameJob {
  public:
   FrameJob(const Scene& scene, const Camera& camera, const RenderSettings& s, int w, int h, FrameBuffer& fb)
-      : scene_(scene), camera_(camera), s_(s), w_(w), h_(h), fb_(fb), integ_(scene, s.integrator, camera.up()) {
+      : scene_(scene),
+        camera_(camera),
+        s_(s),
+        w_(w),
+        h_(h),
+        fb_(fb),
+        integ_(scene, frameIntegratorSettings(s), camera.up()) {
     ts_ = std::max(1, s.tileSize);
     tilesX_ = (w + ts_ - 1) / ts_;
     tilesY_ = (h + ts_ - 1) / ts_;
@@ -295,7 +308,7 @@ class FrameJob {
       st += stats[k];
       PixelSums& p = ps[k * psStride];
       addSample(smp[k], p, st);
-      p.rays += uint32_t(std::min<uint64_t>(stats[k].traced(), UINT32_MAX - p.rays));
+      p.rays += uint32_t(std::min<uint64_t>(stats[k].traversals(), UINT32_MAX - p.rays));
     }
   }
 
@@ -508,7 +521,7 @@ class FrameJob {
         const double spent = elapsed() - before;
         const double left = std::chrono::duration<double>(*deadline_ - std::chrono::steady_clock::now()).count();
         if (spent > 0.0 && left > 0.0) {
-          const double affordable = double(traced.traced()) / spent * left;
+          const double affordable = double(traced.traversals()) / spent * left;
           if (1.5 * roundRays > affordable) roundRays = affordable;
         }
       }

@@ -52,7 +52,7 @@ struct PixelSums {
   int n = 0;                                     ///< Samples summed (0: the pixel is not traced by this process).
   int strata = 1;  ///< Samples of the first pass (a stratified grid); later samples continue a 2D sequence.
   int level = 0;  ///< Loosening level the samples were traced at, -1 = coarse (see RenderSettings::targetError).
-  uint32_t rays = 0;  ///< Rays traced for the samples summed (what tracing them again costs).
+  uint32_t rays = 0;  ///< Rays (traced and bound rays) for the samples summed (what tracing them again costs).
   bool anyHit = false;
 };
 

@@ -12,7 +12,7 @@ void vtkWhittedFrameStatistics::Reset()
   this->ConversionCPUTime = this->BuildCPUTime = this->TraceCPUTime = this->CompositeCPUTime = 0.0;
   this->NumberOfFastTrees = this->NumberOfObjectsUpgraded = 0;
   this->PrimaryRays = this->ShadowRays = this->ReflectionRays = this->RefractionRays = 0;
-  this->RaysSavedByThreshold = this->RaysSavedByDepth = 0;
+  this->RaysSavedByThreshold = this->RaysSavedByDepth = this->BoundRays = 0;
   this->NumberOfTriangles = this->NumberOfSpheres = this->NumberOfTubes = 0;
   this->NumberOfInstances = 0;
   this->BVHBytes = this->NumberOfTextures = this->TextureBytes = 0;
@@ -52,6 +52,7 @@ void vtkWhittedFrameStatistics::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RefractionRays: " << this->RefractionRays << "\n";
   os << indent << "RaysSavedByThreshold: " << this->RaysSavedByThreshold << "\n";
   os << indent << "RaysSavedByDepth: " << this->RaysSavedByDepth << "\n";
+  os << indent << "BoundRays: " << this->BoundRays << "\n";
   os << indent << "NumberOfTriangles: " << this->NumberOfTriangles << "\n";
   os << indent << "NumberOfSpheres: " << this->NumberOfSpheres << "\n";
   os << indent << "NumberOfTubes: " << this->NumberOfTubes << "\n";

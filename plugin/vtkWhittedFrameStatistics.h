@@ -65,7 +65,9 @@ public:
   ///@{
   /**
    * Rays by kind, and secondary rays not traced because their contribution was below
-   * ContributionThreshold or MaxDepth was reached.
+   * ContributionThreshold or MaxDepth was reached. BoundRays: of those, the ones traced to their
+   * first hit only (no shading recursion, no shadow rays) to bound what they would have returned
+   * (the truncation error estimate of still frames; 0 in interactive frames).
    */
   vtkGetMacro(PrimaryRays, vtkTypeUInt64);
   vtkGetMacro(ShadowRays, vtkTypeUInt64);
@@ -73,6 +75,7 @@ public:
   vtkGetMacro(RefractionRays, vtkTypeUInt64);
   vtkGetMacro(RaysSavedByThreshold, vtkTypeUInt64);
   vtkGetMacro(RaysSavedByDepth, vtkTypeUInt64);
+  vtkGetMacro(BoundRays, vtkTypeUInt64);
   ///@}
 
   ///@{
@@ -208,6 +211,7 @@ protected:
   vtkTypeUInt64 RefractionRays = 0;
   vtkTypeUInt64 RaysSavedByThreshold = 0;
   vtkTypeUInt64 RaysSavedByDepth = 0;
+  vtkTypeUInt64 BoundRays = 0;
   vtkTypeUInt64 NumberOfTriangles = 0;
   vtkTypeUInt64 NumberOfSpheres = 0;
   vtkTypeUInt64 NumberOfTubes = 0;

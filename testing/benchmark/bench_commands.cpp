@@ -37,6 +37,7 @@ RenderSettings settingsFrom(const Args& a) {
   rs.integrator.shadows = !a.has("no-shadows");
   rs.integrator.packets = !a.has("no-packets");
   rs.errorEstimates = !a.has("no-error-estimates");  // as interactive frames of the VTK pass
+  rs.integrator.truncationLookahead = a.integer("lookahead", rs.integrator.truncationLookahead);
   rs.targetError = a.real("target-error", 0.0);
   rs.timeBudget = a.real("time-budget", 0.0);
   return rs;
