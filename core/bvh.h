@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 namespace whitted {
@@ -33,6 +34,13 @@ struct alignas(64) BvhWideNode {  // two whole cache lines
   float b[6][4];
   uint32_t first[4];
   uint32_t count[4];
+  /// Mask of the slots that hold a child. Empty slots are the children whose lo.x is +inf (a real box's lo is
+  /// rounded down, so never +inf even beyond float range); slab tests mask them out, since NaN exits (inf - inf)
+  /// could otherwise let them through.
+  unsigned used() const {
+    const __m128 inf = _mm_set1_ps(std::numeric_limits<float>::infinity());
+    return unsigned(_mm_movemask_ps(_mm_cmplt_ps(_mm_load_ps(b[0]), inf)));
+  }
 };
 /// A tree's wide nodes (on huge pages when large: memory.h).
 using BvhWideNodes = LargeVector<BvhWideNode>;
@@ -69,6 +77,21 @@ struct BoxRay {
   int nearBound[3], farBound[3];  ///< Index into BvhWideNode::b of the near / far plane per axis.
   double tScale = 1.0;            ///< Box-test distances are t * tScale.
   BoxRay() = default;             ///< Unset (the lanes of a packet's inactive rays).
+  /// Slab test of wide node n's four boxes against [t0, t1] (box-test units): t0 becomes each box's entry distance
+  /// (at most the exact one); returns the mask of the boxes entered (AND it with n.used(): empty slots may pass).
+  unsigned enter(const BvhWideNode& n, __m128& t0, __m128 t1) const {
+    for (int a = 0; a < 3; ++a) {
+      const __m128 lo = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[nearBound[a]]), orgNear[a]), invNear[a]);
+      const __m128 hi = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[farBound[a]]), orgFar[a]), invFar[a]);
+      // The far product's NaN (0 * inf: an origin on the far plane of a parallel ray; inf - inf: an infinite
+      // plane and an origin beyond float range) is ignored: min(hi, t1) returns t1 for a NaN hi. A near
+      // product is never NaN for a real box (its lo is never +inf nor its hi -inf, and the rounded origin
+      // never goes past +-FLT_MAX toward them); max(t0, lo) would return a NaN and reject the child.
+      t0 = _mm_max_ps(t0, lo);
+      t1 = _mm_min_ps(hi, t1);
+    }
+    return unsigned(_mm_movemask_ps(_mm_cmple_ps(t0, t1)));
+  }
   BoxRay(const Ray& r, const Vec3& anchor) {
     // Power-of-two scale bringing the largest direction component into [1, 2) (exact, keeps t' in float range)
     // (exponent bits of the largest component; callers pass finite directions)
@@ -264,11 +287,9 @@ class Bvh {
     if (wide_.empty() || !isFinite(ray.origin) || !isFinite(ray.dir)) return false;
     // A tree that is one leaf (a one-sphere object, a small mesh): its box was tested by the level above, and the
     // leaf tests are exact, so the root's box test only costs (8% of the classic scene's instructions)
-    const BvhWideNode& root = wide_[0];
-    if (wide_.size() == 1 && root.count[1] == BvhWideNode::kEmpty && root.count[0] != 0 &&
-        root.count[0] != BvhWideNode::kEmpty) {
+    if (isOneLeaf()) {
       if (nodesVisited) ++*nodesVisited;
-      return leaf(root.first[0], root.count[0], tMax);
+      return leaf(wide_[0].first[0], wide_[0].count[0], tMax);
     }
     const BoxRay br(ray, anchor_);
     struct Entry {
@@ -294,23 +315,10 @@ class Bvh {
       } else {
         const BvhWideNode& n = wide_[cur.first];
         // Slab test of the four children at once
-        __m128 t0 = tMinV, t1 = _mm_set1_ps(tMaxF);
-        for (int a = 0; a < 3; ++a) {
-          const __m128 lo = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[br.nearBound[a]]), br.orgNear[a]), br.invNear[a]);
-          const __m128 hi = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[br.farBound[a]]), br.orgFar[a]), br.invFar[a]);
-          // The far product's NaN (0 * inf: an origin on the far plane of a parallel ray; inf - inf: an infinite
-          // plane and an origin beyond float range) is ignored: min(hi, t1) returns t1 for a NaN hi. A near
-          // product is never NaN for a real box (its lo is never +inf nor its hi -inf, and the rounded origin
-          // never goes past +-FLT_MAX toward them); max(t0, lo) would return a NaN and reject the child.
-          t0 = _mm_max_ps(t0, lo);
-          t1 = _mm_min_ps(hi, t1);
-        }
+        __m128 t0 = tMinV;
+        unsigned mask = br.enter(n, t0, _mm_set1_ps(tMaxF)) & n.used();
         alignas(16) float tNear[4];
         _mm_store_ps(tNear, t0);
-        // Empty slots are the children whose lo.x is +inf (a real box's lo is rounded down, so never +inf even
-        // beyond float range): masked out here, since NaN exits (inf - inf) could otherwise let them through
-        const __m128 used = _mm_cmplt_ps(_mm_load_ps(n.b[0]), _mm_set1_ps(std::numeric_limits<float>::infinity()));
-        unsigned mask = unsigned(_mm_movemask_ps(_mm_and_ps(_mm_cmple_ps(t0, t1), used)));
         if (mask != 0) {
           int c = __builtin_ctz(mask);
           mask &= mask - 1;
@@ -372,11 +380,9 @@ class Bvh {
     for (int i = 0; i < 4; ++i)
       if ((active >> i & 1) && (!isFinite(rays[i].origin) || !isFinite(rays[i].dir))) active &= ~(1u << i);
     if (active == 0) return 0;
-    const BvhWideNode& root = wide_[0];
-    if (wide_.size() == 1 && root.count[1] == BvhWideNode::kEmpty && root.count[0] != 0 &&
-        root.count[0] != BvhWideNode::kEmpty) {  // one-leaf tree: see traverse()
+    if (isOneLeaf()) {  // see traverse()
       if (nodesVisited) ++*nodesVisited;
-      return leaf(root.first[0], root.count[0], active) & active;
+      return leaf(wide_[0].first[0], wide_[0].count[0], active) & active;
     }
     BoxRay br[4];
     __m128 tMinV[4], tMaxV[4];
@@ -398,7 +404,6 @@ class Bvh {
     uint64_t visited = 0;
     unsigned finished = 0;
     Entry cur{0, 0, active};
-    const __m128 inf = _mm_set1_ps(std::numeric_limits<float>::infinity());
     for (;;) {
       ++visited;
       if (cur.count > 0) {
@@ -406,14 +411,14 @@ class Bvh {
         if (finished == active) break;
       } else {
         const BvhWideNode& n = wide_[cur.first];
-        const __m128 used = _mm_cmplt_ps(_mm_load_ps(n.b[0]), inf);
+        const unsigned used = n.used();
         // Per child, the rays that enter it (bit i of enter[c]). With a joint test, its inner children take all
         // the node's rays and only leaf children are tested ray by ray (a leaf's primitive tests cost more than a
         // box test); else each ray's slab test as in traverse()
         unsigned enter[4] = {0, 0, 0, 0};
         unsigned perRay = cur.rays, children = 0xfu;  // rays and children left to the per-ray tests
         if (joint.valid && (cur.rays & (cur.rays - 1))) {
-          const unsigned hit = joint.test(n) & unsigned(_mm_movemask_ps(used));
+          const unsigned hit = joint.test(n) & used;
           children = 0;
           for (int c = 0; c < 4; ++c) {
             if (!(hit >> c & 1)) continue;
@@ -426,15 +431,8 @@ class Bvh {
         }
         for (unsigned m = perRay; m; m &= m - 1) {
           const int i = __builtin_ctz(m);
-          const BoxRay& r = br[i];
-          __m128 t0 = tMinV[i], t1 = tMaxV[i];
-          for (int a = 0; a < 3; ++a) {
-            const __m128 lo = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.nearBound[a]]), r.orgNear[a]), r.invNear[a]);
-            const __m128 hi = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[r.farBound[a]]), r.orgFar[a]), r.invFar[a]);
-            t0 = _mm_max_ps(t0, lo);
-            t1 = _mm_min_ps(hi, t1);
-          }
-          const unsigned hit = unsigned(_mm_movemask_ps(_mm_and_ps(_mm_cmple_ps(t0, t1), used))) & children;
+          __m128 t0 = tMinV[i];
+          const unsigned hit = br[i].enter(n, t0, tMaxV[i]) & used & children;
           for (int c = 0; c < 4; ++c) enter[c] |= (hit >> c & 1u) << i;
         }
         // The first entered child is visited next, the others pushed
@@ -479,6 +477,12 @@ class Bvh {
   }
 
  private:
+  /// The tree is one leaf: a root with a single leaf child.
+  bool isOneLeaf() const {
+    const BvhWideNode& root = wide_[0];
+    return wide_.size() == 1 && root.count[1] == BvhWideNode::kEmpty && root.count[0] != 0 &&
+           root.count[0] != BvhWideNode::kEmpty;
+  }
   void clear() {  // the empty tree
     wide_.clear();
     primIndices_.clear();

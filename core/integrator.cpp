@@ -396,7 +396,6 @@ void Integrator::frameHit(const Ray& ray, const Hit& hit, int depth, const PathS
   }
 }
 
-
 template <bool Shadows, typename ShadowFn>
 Color Integrator::localTerm(const HitFrame& f, const Color& weight, RayStats& st, PathState& ps,
                             ShadowFn& shadows) const {

@@ -129,11 +129,15 @@ void Scene::UpgradeSlot::drop() {
   // test's hook may refer to the test's state: such a build is waited for
   if (!job || !job->thread.joinable()) return;
   if (job->finished || job->hasHook) return wait();
-  {
-    std::unique_lock<std::mutex> lock(job->mutex);
-    job->read.wait(lock, [u = job.get()] { return u->inputsRead; });
-  }
+  settle();
   retire();
+}
+
+void Scene::UpgradeSlot::settle() {
+  Upgrade* u = job.get();
+  if (!u) return;
+  std::unique_lock<std::mutex> lock(u->mutex);
+  u->read.wait(lock, [u] { return u->inputsRead; });
 }
 
 void Scene::UpgradeSlot::retire() {
@@ -159,10 +163,7 @@ Scene::Scene(Scene&&) noexcept = default;
 Scene& Scene::operator=(Scene&&) noexcept = default;
 
 void Scene::settleUpgrade() {
-  Upgrade* u = upgrade_.job.get();
-  if (!u) return;
-  std::unique_lock<std::mutex> lock(u->mutex);
-  u->read.wait(lock, [u] { return u->inputsRead; });
+  upgrade_.settle();
 }
 
 void Scene::startUpgrades() {

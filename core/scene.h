@@ -292,6 +292,7 @@ class Scene {
     UpgradeSlot& operator=(UpgradeSlot&& o) noexcept;
     ~UpgradeSlot();
     void wait();    ///< Joins the build's thread if it runs.
+    void settle();  ///< Waits until the build (if any) has read the scene.
     void drop();    ///< The build's trees are not wanted: waits for its read of the scene, then retires it.
     void retire();  ///< Cancels the build (after its read) and leaves its thread to stop on its own; job empty.
   };
