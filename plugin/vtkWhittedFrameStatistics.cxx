@@ -11,6 +11,7 @@ void vtkWhittedFrameStatistics::Reset()
   this->CompositeTime = this->TotalTime = 0.0;
   this->ConversionCPUTime = this->BuildCPUTime = this->TraceCPUTime = this->CompositeCPUTime = 0.0;
   this->NumberOfFastTrees = this->NumberOfObjectsUpgraded = 0;
+  this->WaitedForUpgrade = this->UpgradeRestarted = false;
   this->PrimaryRays = this->ShadowRays = this->ReflectionRays = this->RefractionRays = 0;
   this->RaysSavedByThreshold = this->RaysSavedByDepth = this->BoundRays = 0;
   this->NumberOfTriangles = this->NumberOfSpheres = this->NumberOfTubes = 0;
@@ -66,6 +67,8 @@ void vtkWhittedFrameStatistics::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfObjectsRefit: " << this->NumberOfObjectsRefit << "\n";
   os << indent << "NumberOfFastTrees: " << this->NumberOfFastTrees << "\n";
   os << indent << "NumberOfObjectsUpgraded: " << this->NumberOfObjectsUpgraded << "\n";
+  os << indent << "WaitedForUpgrade: " << this->WaitedForUpgrade << "\n";
+  os << indent << "UpgradeRestarted: " << this->UpgradeRestarted << "\n";
   os << indent << "ConversionCPUTime: " << this->ConversionCPUTime << "\n";
   os << indent << "BuildCPUTime: " << this->BuildCPUTime << "\n";
   os << indent << "TraceCPUTime: " << this->TraceCPUTime << "\n";

@@ -57,9 +57,16 @@ public:
    * frame and swapped in by a later frame once finished (never waited for). NumberOfFastTrees:
    * objects traced with a fast tree in this frame; NumberOfObjectsUpgraded: objects whose SAH tree
    * was swapped in at the start of this frame. Images do not depend on the tree.
+   * WaitedForUpgrade: this frame's build phase waited for a background build (frames rendered back to
+   * back leave it no idle core; the 16th frame after it started waits, so its BuildTime includes that
+   * wait). UpgradeRestarted: this frame stopped a background build kept at idle priority and started it
+   * again at normal priority, because the process may not raise a thread's priority (Linux without
+   * CAP_SYS_NICE); no frame waits then.
    */
   vtkGetMacro(NumberOfFastTrees, int);
   vtkGetMacro(NumberOfObjectsUpgraded, int);
+  vtkGetMacro(WaitedForUpgrade, bool);
+  vtkGetMacro(UpgradeRestarted, bool);
   ///@}
 
   ///@{
@@ -205,6 +212,8 @@ protected:
   double CompositeCPUTime = 0.0;
   int NumberOfFastTrees = 0;
   int NumberOfObjectsUpgraded = 0;
+  bool WaitedForUpgrade = false;
+  bool UpgradeRestarted = false;
   vtkTypeUInt64 PrimaryRays = 0;
   vtkTypeUInt64 ShadowRays = 0;
   vtkTypeUInt64 ReflectionRays = 0;

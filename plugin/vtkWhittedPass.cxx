@@ -616,6 +616,8 @@ void vtkWhittedPassInternals::RecordStatistics(
   st->NumberOfObjectsRebuilt = r.Commit.objectsRebuilt;
   st->NumberOfObjectsRefit = r.Commit.objectsRefit;
   st->NumberOfObjectsUpgraded = r.Commit.objectsUpgraded;
+  st->WaitedForUpgrade = r.Commit.waitedForUpgrade;
+  st->UpgradeRestarted = r.Commit.upgradeRestarted;
   st->NumberOfFastTrees = static_cast<int>(scene.fastTrees);
   st->ConversionCPUTime = r.CPUTime[0];
   st->BuildCPUTime = r.CPUTime[1];
@@ -662,9 +664,11 @@ void vtkWhittedPassInternals::RecordStatistics(
     "  CPU time         conversion %.2f ms, build %.2f ms, trace %.2f ms, composite %.2f ms "
     "(process, all threads)\n"
     "  trees            %d objects traced with the fast tree, %d upgraded to the SAH tree in this "
-    "frame\n",
+    "frame%s%s\n",
     r.CPUTime[0] * 1e3, r.CPUTime[1] * 1e3, r.CPUTime[2] * 1e3, r.CPUTime[3] * 1e3,
-    st->NumberOfFastTrees, st->NumberOfObjectsUpgraded);
+    st->NumberOfFastTrees, st->NumberOfObjectsUpgraded,
+    st->WaitedForUpgrade ? "; the build phase waited for the background build" : "",
+    st->UpgradeRestarted ? "; the background build restarted at normal priority (priority not raisable)" : "");
   report += line;
   std::snprintf(line, sizeof line,
     "  time cache       %d hits; holds %d geometries, %.1f MB (limit %d MB)\n",

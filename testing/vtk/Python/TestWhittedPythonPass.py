@@ -120,6 +120,9 @@ class TestWhittedPythonPass(Testing.vtkTest):
         first = grab(window, rerender=False)
         window.Render()  # nothing changed; the build is either still running or just finished
         self.assertIn((stats.GetNumberOfFastTrees(), stats.GetNumberOfObjectsUpgraded()), [(1, 0), (0, 1)])
+        # the second frame neither waits for the build nor restarts it (only the 4th/16th frame after it may)
+        self.assertEqual((stats.GetWaitedForUpgrade(), stats.GetUpgradeRestarted()), (False, False))
+        self.assertNotIn("waited for the background build", p.GetLastFrameReport())
         if stats.GetNumberOfFastTrees():
             p.WaitForBackgroundBuilds()
             window.Render()
