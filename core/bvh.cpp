@@ -99,25 +99,6 @@ struct alignas(16) PrimRef {
 };
 
 
-/// Uninitialised build-time array of trivially copyable T.
-template <class T>
-class ScratchArray {
-  static_assert(std::is_trivially_copyable<T>::value, "raw storage");
-
- public:
-  explicit ScratchArray(std::size_t n) : bytes_(n * sizeof(T)), p_(static_cast<T*>(HugePages::allocate(bytes_))) {}
-  ~ScratchArray() { HugePages::deallocate(p_, bytes_); }
-  ScratchArray(const ScratchArray&) = delete;
-  ScratchArray& operator=(const ScratchArray&) = delete;
-  T* data() { return p_; }
-  T& operator[](std::size_t i) { return p_[i]; }
-  const T& operator[](std::size_t i) const { return p_[i]; }
-
- private:
-  std::size_t bytes_;
-  T* p_;
-};
-
 // Work split ---------------------------------------------------------------------------------------------------
 
 constexpr uint32_t kParallelMin = 32768;  // nodes at least this large bin and partition in parallel chunks
@@ -756,9 +737,8 @@ Bounds3 toBounds(const Box4& b, const Vec3& anchor) {
 struct LeafOrderBoxes {
   ScratchArray<Box4> box;
   /// boxes[prims[i]] is leaf slot i's box; prims null: boxes are in leaf order already (no gather).
-  LeafOrderBoxes(const std::vector<Bounds3>& boxes, const uint32_t* prims, const Vec3& anchor, WorkerPool& pool)
-      : box(boxes.size()) {
-    const uint32_t n = uint32_t(boxes.size());
+  LeafOrderBoxes(const Bounds3* boxes, uint32_t n, const uint32_t* prims, const Vec3& anchor, WorkerPool& pool)
+      : box(n) {
     pool.run(chunksOf(n), [&](uint32_t k) {
       for (uint32_t i = k * kChunk, e = std::min(n, i + kChunk); i < e; ++i) {
         const uint32_t p = prims ? prims[i] : i;
@@ -808,9 +788,9 @@ void radixSortMortonKeys(uint64_t*& keys, uint64_t*& tmp, uint32_t n, WorkerPool
 }
 
 /// Primitives in Morton order of their centroids: primIndices gets the order, codes the sorted 30-bit codes.
-void mortonOrder(const std::vector<Vec3>& centroids, WorkerPool& pool, std::vector<uint32_t>& primIndices,
+void mortonOrder(const Vec3* centroids, uint32_t n, WorkerPool& pool, std::vector<uint32_t>& primIndices,
                  ScratchArray<uint32_t>& codes) {
-  const uint32_t n = uint32_t(centroids.size()), chunks = chunksOf(n);
+  const uint32_t chunks = chunksOf(n);
   // Centroid bounds
   std::vector<Bounds3> part(chunks);
   pool.run(chunks, [&](uint32_t k) {
@@ -853,28 +833,25 @@ struct BuiltTree {
 };
 
 /// Fast (Morton, LBVH) build into wide and primIndices (sized n).
-BuiltTree buildMorton(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids, const BvhBuildOptions& opt,
-                      const Vec3& anchor, WorkerPool& pool, BvhWideNodes& wide,
-                      std::vector<uint32_t>& primIndices) {
-  const uint32_t n = uint32_t(boxes.size());
+BuiltTree buildMorton(const Bounds3* boxes, const Vec3* centroids, uint32_t n, const BvhBuildOptions& opt,
+                      const Vec3& anchor, WorkerPool& pool, BvhWideNodes& wide, std::vector<uint32_t>& primIndices) {
   ScratchArray<uint32_t> codes(n);
-  mortonOrder(centroids, pool, primIndices, codes);
+  mortonOrder(centroids, n, pool, primIndices, codes);
   MortonStrategy s{codes.data(), uint32_t(std::clamp(opt.maxLeafSize, 1, 4))};
   MortonStrategy::Cand root{0, n, 1};
   s.decide(root);
   BuiltTree t;
   t.depth = buildAll(s, root, pool, wide, opt.cancel);
   // Node boxes: a refit over the primitives' boxes in leaf order
-  const LeafOrderBoxes leafBox(boxes, primIndices.data(), anchor, pool);
+  const LeafOrderBoxes leafBox(boxes, n, primIndices.data(), anchor, pool);
   t.bounds = toBounds(Refitter<LeafOrderBoxes>{wide, leafBox}.all(pool), anchor);
   return t;
 }
 
 /// Binned-SAH build into wide and primIndices (sized n).
-BuiltTree buildSah(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids, const BvhBuildOptions& opt,
-                   const Vec3& anchor, WorkerPool& pool, BvhWideNodes& wide,
-                   std::vector<uint32_t>& primIndices) {
-  const uint32_t n = uint32_t(boxes.size()), chunks = chunksOf(n);
+BuiltTree buildSah(const Bounds3* boxes, const Vec3* centroids, uint32_t n, const BvhBuildOptions& opt,
+                   const Vec3& anchor, WorkerPool& pool, BvhWideNodes& wide, std::vector<uint32_t>& primIndices) {
+  const uint32_t chunks = chunksOf(n);
   // Primitive references (boxes rounded outward once; centroids relative to the first one, so that a small
   // object far from the origin keeps distinct float centroids), with box and centroid bounds per chunk
   uint32_t a = 0;
@@ -924,9 +901,9 @@ BuiltTree buildSah(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& c
 
 }  // namespace
 
-void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids, const BvhBuildOptions& opt) {
+void Bvh::build(const Bounds3* boxes, const Vec3* centroids, std::size_t count, const BvhBuildOptions& opt) {
   clear();
-  if (boxes.empty()) return;
+  if (count == 0) return;
   // An exception (std::bad_alloc) leaves an empty tree, not a half-built one
   struct EmptyOnThrow {
     Bvh& bvh;
@@ -935,7 +912,7 @@ void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& cent
       if (std::uncaught_exceptions() > uncaught) bvh.clear();
     }
   } emptyOnThrow{*this};
-  const uint32_t n = uint32_t(boxes.size());
+  const uint32_t n = uint32_t(count);
   // Node boxes are stored relative to the first finite centroid, so an object far from the origin keeps float
   // precision in its boxes (traversal subtracts the anchor from the ray origin once)
   anchor_ = Vec3(0.0);
@@ -947,8 +924,8 @@ void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& cent
   WorkerPool pool(buildThreads(opt, n));
   primIndices_.resize(n);
   const BuiltTree t = opt.quality == BvhBuildQuality::Fast
-                          ? buildMorton(boxes, centroids, opt, anchor_, pool, wide_, primIndices_)
-                          : buildSah(boxes, centroids, opt, anchor_, pool, wide_, primIndices_);
+                          ? buildMorton(boxes, centroids, n, opt, anchor_, pool, wide_, primIndices_)
+                          : buildSah(boxes, centroids, n, opt, anchor_, pool, wide_, primIndices_);
   depth_ = t.depth;
   bounds_ = t.bounds;
   if (opt.cancel && opt.cancel->load(std::memory_order_relaxed)) clear();  // maybe unfinished: nothing is kept
@@ -966,7 +943,8 @@ void Bvh::refitFrom(const std::vector<Bounds3>& boxes, bool gather) {
   if (boxes.size() != primIndices_.size()) throw std::invalid_argument("Bvh::refit: primitive count differs");
   if (wide_.empty()) return;
   WorkerPool pool(buildThreads(BvhBuildOptions(), boxes.size()));
-  const LeafOrderBoxes leafBox(boxes, gather ? primIndices_.data() : nullptr, anchor_, pool);
+  const LeafOrderBoxes leafBox(boxes.data(), uint32_t(boxes.size()), gather ? primIndices_.data() : nullptr, anchor_,
+                               pool);
   bounds_ = toBounds(Refitter<LeafOrderBoxes>{wide_, leafBox}.all(pool), anchor_);
 }
 
