@@ -54,7 +54,6 @@ std::size_t rebuildShape(Object& o, typename Shape::Geometry& g, BvhBuildQuality
   // (uninitialised, first touched by the parallel fill: see ScratchArray)
   const std::size_t n = Shape::count(g);
   ScratchArray<Bounds3> boxes(n);
-  ScratchArray<Vec3> centroids(n);
   ScratchArray<uint32_t> valid(n);
   const std::size_t pieces = (n + kPiece - 1) / kPiece;
   std::vector<std::size_t> kept(pieces);
@@ -66,7 +65,6 @@ std::size_t rebuildShape(Object& o, typename Shape::Geometry& g, BvhBuildQuality
     for (std::size_t i = b; i < e; ++i) {
       if (!Shape::bounds(g, uint32_t(i), box)) continue;
       boxes[m] = box;
-      centroids[m] = box.center();
       valid[m++] = uint32_t(i);
       all.extend(box);
     }
@@ -79,7 +77,6 @@ std::size_t rebuildShape(Object& o, typename Shape::Geometry& g, BvhBuildQuality
     const std::size_t b = k * kPiece;
     if (nValid != b) {  // some primitive before was left out
       std::copy(boxes.data() + b, boxes.data() + b + kept[k], boxes.data() + nValid);
-      std::copy(centroids.data() + b, centroids.data() + b + kept[k], centroids.data() + nValid);
       std::copy(valid.data() + b, valid.data() + b + kept[k], valid.data() + nValid);
     }
     nValid += kept[k];
@@ -87,7 +84,7 @@ std::size_t rebuildShape(Object& o, typename Shape::Geometry& g, BvhBuildQuality
   }
   BvhBuildOptions opt;
   opt.quality = quality;
-  o.bvh.build(boxes.data(), centroids.data(), nValid, opt);
+  o.bvh.build(boxes.data(), nullptr, nValid, opt);  // centroids: the boxes' centres
   o.builtCost = o.bvh.sahCost();
   o.builtQuality = quality;
   applyLeafOrder<Shape>(o, g, valid.data(), nValid, n);
