@@ -99,23 +99,12 @@ struct alignas(16) PrimRef {
 };
 
 
-/// Uninitialised build-time array of trivially copyable T.
-template <class T>
-class ScratchArray {
-  static_assert(std::is_trivially_copyable<T>::value, "raw storage");
-
- public:
-  explicit ScratchArray(std::size_t n) : bytes_(n * sizeof(T)), p_(static_cast<T*>(HugePages::allocate(bytes_))) {}
-  ~ScratchArray() { HugePages::deallocate(p_, bytes_); }
-  ScratchArray(const ScratchArray&) = delete;
-  ScratchArray& operator=(const ScratchArray&) = delete;
-  T* data() { return p_; }
-  T& operator[](std::size_t i) { return p_[i]; }
-  const T& operator[](std::size_t i) const { return p_[i]; }
-
- private:
-  std::size_t bytes_;
-  T* p_;
+/// The build's representative points: the caller's centroids, or the boxes' centres when it gave none (saves the
+/// caller an array: 24 bytes per primitive written and read twice).
+struct Centroids {
+  const Bounds3* boxes;
+  const Vec3* given;  ///< null: boxes[i].center()
+  Vec3 operator[](std::size_t i) const { return given ? given[i] : boxes[i].center(); }
 };
 
 // Work split ---------------------------------------------------------------------------------------------------
@@ -756,9 +745,8 @@ Bounds3 toBounds(const Box4& b, const Vec3& anchor) {
 struct LeafOrderBoxes {
   ScratchArray<Box4> box;
   /// boxes[prims[i]] is leaf slot i's box; prims null: boxes are in leaf order already (no gather).
-  LeafOrderBoxes(const std::vector<Bounds3>& boxes, const uint32_t* prims, const Vec3& anchor, WorkerPool& pool)
-      : box(boxes.size()) {
-    const uint32_t n = uint32_t(boxes.size());
+  LeafOrderBoxes(const Bounds3* boxes, uint32_t n, const uint32_t* prims, const Vec3& anchor, WorkerPool& pool)
+      : box(n) {
     pool.run(chunksOf(n), [&](uint32_t k) {
       for (uint32_t i = k * kChunk, e = std::min(n, i + kChunk); i < e; ++i) {
         const uint32_t p = prims ? prims[i] : i;
@@ -808,9 +796,9 @@ void radixSortMortonKeys(uint64_t*& keys, uint64_t*& tmp, uint32_t n, WorkerPool
 }
 
 /// Primitives in Morton order of their centroids: primIndices gets the order, codes the sorted 30-bit codes.
-void mortonOrder(const std::vector<Vec3>& centroids, WorkerPool& pool, std::vector<uint32_t>& primIndices,
+void mortonOrder(const Centroids& centroids, uint32_t n, WorkerPool& pool, std::vector<uint32_t>& primIndices,
                  ScratchArray<uint32_t>& codes) {
-  const uint32_t n = uint32_t(centroids.size()), chunks = chunksOf(n);
+  const uint32_t chunks = chunksOf(n);
   // Centroid bounds
   std::vector<Bounds3> part(chunks);
   pool.run(chunks, [&](uint32_t k) {
@@ -829,8 +817,9 @@ void mortonOrder(const std::vector<Vec3>& centroids, WorkerPool& pool, std::vect
   pool.run(chunks, [&](uint32_t k) {
     for (uint32_t i = k * kChunk, e = std::min(n, i + kChunk); i < e; ++i) {
       uint32_t code = 0;
+      const Vec3 c = centroids[i];
       for (int a = 0; a < 3; ++a) {
-        const double f = (centroids[i][a] - cb.lo[a]) * scale[a];
+        const double f = (c[a] - cb.lo[a]) * scale[a];
         const uint32_t q = f > 0.0 ? (f < 1023.0 ? uint32_t(f) : 1023u) : 0u;  // NaN -> 0
         code |= spreadBits(q) << (2 - a);
       }
@@ -853,33 +842,31 @@ struct BuiltTree {
 };
 
 /// Fast (Morton, LBVH) build into wide and primIndices (sized n).
-BuiltTree buildMorton(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids, const BvhBuildOptions& opt,
-                      const Vec3& anchor, WorkerPool& pool, BvhWideNodes& wide,
-                      std::vector<uint32_t>& primIndices) {
-  const uint32_t n = uint32_t(boxes.size());
+BuiltTree buildMorton(const Bounds3* boxes, const Centroids& centroids, uint32_t n, const BvhBuildOptions& opt,
+                      const Vec3& anchor, WorkerPool& pool, BvhWideNodes& wide, std::vector<uint32_t>& primIndices) {
   ScratchArray<uint32_t> codes(n);
-  mortonOrder(centroids, pool, primIndices, codes);
+  mortonOrder(centroids, n, pool, primIndices, codes);
   MortonStrategy s{codes.data(), uint32_t(std::clamp(opt.maxLeafSize, 1, 4))};
   MortonStrategy::Cand root{0, n, 1};
   s.decide(root);
   BuiltTree t;
   t.depth = buildAll(s, root, pool, wide, opt.cancel);
   // Node boxes: a refit over the primitives' boxes in leaf order
-  const LeafOrderBoxes leafBox(boxes, primIndices.data(), anchor, pool);
+  const LeafOrderBoxes leafBox(boxes, n, primIndices.data(), anchor, pool);
   t.bounds = toBounds(Refitter<LeafOrderBoxes>{wide, leafBox}.all(pool), anchor);
   return t;
 }
 
 /// Binned-SAH build into wide and primIndices (sized n).
-BuiltTree buildSah(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids, const BvhBuildOptions& opt,
-                   const Vec3& anchor, WorkerPool& pool, BvhWideNodes& wide,
-                   std::vector<uint32_t>& primIndices) {
-  const uint32_t n = uint32_t(boxes.size()), chunks = chunksOf(n);
+BuiltTree buildSah(const Bounds3* boxes, const Centroids& centroids, uint32_t n, const BvhBuildOptions& opt,
+                   const Vec3& anchor, WorkerPool& pool, BvhWideNodes& wide, std::vector<uint32_t>& primIndices) {
+  const uint32_t chunks = chunksOf(n);
   // Primitive references (boxes rounded outward once; centroids relative to the first one, so that a small
   // object far from the origin keeps distinct float centroids), with box and centroid bounds per chunk
   uint32_t a = 0;
   while (a + 1 < n && !isFinite(centroids[a])) ++a;
-  const __m128d anchorXY = _mm_loadu_pd(&centroids[a].x), anchorZ = _mm_load_sd(&centroids[a].z);
+  const Vec3 first = centroids[a];
+  const __m128d anchorXY = _mm_loadu_pd(&first.x), anchorZ = _mm_load_sd(&first.z);
   ScratchArray<PrimRef> refs(n);
   std::vector<Box4> part(2 * std::size_t(chunks));
   pool.run(chunks, [&](uint32_t k) {
@@ -889,7 +876,8 @@ BuiltTree buildSah(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& c
       const Box4 b = roundedBox(boxes[i], anchor);
       _mm_store_ps(r.lo, b.lo);
       _mm_store_ps(r.hi, b.hi);
-      const double* c = &centroids[i].x;
+      const Vec3 ci = centroids[i];
+      const double* c = &ci.x;
       _mm_store_ps(r.c, _mm_movelh_ps(_mm_cvtpd_ps(_mm_sub_pd(_mm_loadu_pd(c), anchorXY)),
                                       _mm_cvtpd_ps(_mm_sub_sd(_mm_load_sd(c + 2), anchorZ))));
       r.id = i;
@@ -924,9 +912,10 @@ BuiltTree buildSah(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& c
 
 }  // namespace
 
-void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids, const BvhBuildOptions& opt) {
+void Bvh::build(const Bounds3* boxes, const Vec3* givenCentroids, std::size_t count, const BvhBuildOptions& opt) {
+  const Centroids centroids{boxes, givenCentroids};
   clear();
-  if (boxes.empty()) return;
+  if (count == 0) return;
   // An exception (std::bad_alloc) leaves an empty tree, not a half-built one
   struct EmptyOnThrow {
     Bvh& bvh;
@@ -935,7 +924,7 @@ void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& cent
       if (std::uncaught_exceptions() > uncaught) bvh.clear();
     }
   } emptyOnThrow{*this};
-  const uint32_t n = uint32_t(boxes.size());
+  const uint32_t n = uint32_t(count);
   // Node boxes are stored relative to the first finite centroid, so an object far from the origin keeps float
   // precision in its boxes (traversal subtracts the anchor from the ray origin once)
   anchor_ = Vec3(0.0);
@@ -947,8 +936,8 @@ void Bvh::build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& cent
   WorkerPool pool(buildThreads(opt, n));
   primIndices_.resize(n);
   const BuiltTree t = opt.quality == BvhBuildQuality::Fast
-                          ? buildMorton(boxes, centroids, opt, anchor_, pool, wide_, primIndices_)
-                          : buildSah(boxes, centroids, opt, anchor_, pool, wide_, primIndices_);
+                          ? buildMorton(boxes, centroids, n, opt, anchor_, pool, wide_, primIndices_)
+                          : buildSah(boxes, centroids, n, opt, anchor_, pool, wide_, primIndices_);
   depth_ = t.depth;
   bounds_ = t.bounds;
   if (opt.cancel && opt.cancel->load(std::memory_order_relaxed)) clear();  // maybe unfinished: nothing is kept
@@ -966,7 +955,8 @@ void Bvh::refitFrom(const std::vector<Bounds3>& boxes, bool gather) {
   if (boxes.size() != primIndices_.size()) throw std::invalid_argument("Bvh::refit: primitive count differs");
   if (wide_.empty()) return;
   WorkerPool pool(buildThreads(BvhBuildOptions(), boxes.size()));
-  const LeafOrderBoxes leafBox(boxes, gather ? primIndices_.data() : nullptr, anchor_, pool);
+  const LeafOrderBoxes leafBox(boxes.data(), uint32_t(boxes.size()), gather ? primIndices_.data() : nullptr, anchor_,
+                               pool);
   bounds_ = toBounds(Refitter<LeafOrderBoxes>{wide_, leafBox}.all(pool), anchor_);
 }
 

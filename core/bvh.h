@@ -246,7 +246,12 @@ class Bvh {
 
   /// Builds over boxes[i] with representative points centroids[i]. Empty input gives an empty tree, and so does a
   /// build cancelled through BvhBuildOptions::cancel.
-  void build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids, const BvhBuildOptions& opt = {});
+  void build(const std::vector<Bounds3>& boxes, const std::vector<Vec3>& centroids, const BvhBuildOptions& opt = {}) {
+    build(boxes.data(), centroids.data(), boxes.size(), opt);
+  }
+  /// The same over arrays the caller owns (boxes[0 .. count), centroids[0 .. count)): no copy into vectors.
+  /// centroids null: the boxes' centres (Bounds3::center), the same tree as passing them.
+  void build(const Bounds3* boxes, const Vec3* centroids, std::size_t count, const BvhBuildOptions& opt = {});
   /// Recomputes every node box bottom-up from new primitive boxes (same count and order as the build's), keeping
   /// the topology: for primitives that moved but stay the same primitives (time steps, deformed meshes). Boxes are
   /// rounded outward exactly as build() rounds them, so traversal stays conservative; the tree's quality decays

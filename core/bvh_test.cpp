@@ -337,6 +337,28 @@ TEST(Bvh, ParallelBuildKeepsInvariantsAndIsDeterministic) {
   }
 }
 
+// Object rebuilds pass no centroids (Bvh::build over caller-owned arrays, centroids null): the tree must be the one
+// the boxes' centres give, since a background upgrade builds from validBoxes() with explicit centres and its tree
+// is compared with (and swapped for) the rebuild's. Small (one thread) and parallel inputs, both builders.
+TEST(Bvh, NullCentroidsBuildTheTreeOfTheBoxCentres) {
+  for (int n : {1000, 100000}) {
+    auto boxes = randomBoxes(n, 3);
+    std::mt19937 rng(5);  // boxes of different sizes: their centres differ from any fixed corner offset
+    std::uniform_real_distribution<double> grow(0.0, 2.0);
+    for (Bounds3& b : boxes) b.hi += Vec3(grow(rng), grow(rng), grow(rng));
+    const auto cents = centers(boxes);
+    for (BvhBuildQuality q : {BvhBuildQuality::Sah, BvhBuildQuality::Fast}) {
+      Bvh given, implied;
+      given.build(boxes, cents, withQuality(q, 2));
+      implied.build(boxes.data(), nullptr, boxes.size(), withQuality(q, 2));
+      checkInvariants(implied, boxes);
+      EXPECT_TRUE(sameTree(given, implied)) << n << " primitives";
+      EXPECT_EQ(given.bounds().lo, implied.bounds().lo);
+      EXPECT_EQ(given.bounds().hi, implied.bounds().hi);
+    }
+  }
+}
+
 // Single-primitive leaves need more wide nodes per primitive than a subtree reserves up front (its nodes then move
 // to storage of their own): the tree stays whole and the same on 1 and 2 threads.
 TEST(Bvh, ParallelBuildOfSinglePrimitiveLeaves) {

@@ -18,15 +18,15 @@ int threadsFor(std::size_t n) {
 /// Leaf order of every primitive after o.bvh was built over the valid primitives `valid` of n (given order), and
 /// leaf-ordered arrays (stored in the given order) put in that order.
 template <typename Shape>
-void applyLeafOrder(Object& o, typename Shape::Geometry& g, const std::vector<uint32_t>& valid, std::size_t n) {
+void applyLeafOrder(Object& o, typename Shape::Geometry& g, const uint32_t* valid, std::size_t nValid, std::size_t n) {
   // Leaf order of every primitive (only needed when some are left out: otherwise it is the BVH's own order)
   o.primOrder.clear();
-  if (valid.size() < n) {
+  if (nValid < n) {
     o.primOrder.reserve(n);
     for (uint32_t i : o.bvh.primIndices()) o.primOrder.push_back(valid[i]);
     std::size_t next = 0;  // valid is increasing: the others are the gaps
     for (uint32_t i = 0; i < n; ++i) {
-      if (next < valid.size() && valid[next] == i)
+      if (next < nValid && valid[next] == i)
         ++next;
       else
         o.primOrder.push_back(i);
@@ -50,11 +50,11 @@ std::size_t rebuildShape(Object& o, typename Shape::Geometry& g, BvhBuildQuality
   Shape::sanitize(g);
 
   // Boxes of valid primitives; non-finite and degenerate ones are left out of the BVH. Each piece keeps its valid
-  // ones at its start, then the pieces close ranks in order: the same arrays as one pass in order
+  // ones at its start, then the pieces close ranks in order: the same arrays as one pass in order. Scratch arrays
+  // (uninitialised, first touched by the parallel fill: see ScratchArray)
   const std::size_t n = Shape::count(g);
-  std::vector<Bounds3> boxes(n);
-  std::vector<Vec3> centroids(n);
-  std::vector<uint32_t> valid(n);
+  ScratchArray<Bounds3> boxes(n);
+  ScratchArray<uint32_t> valid(n);
   const std::size_t pieces = (n + kPiece - 1) / kPiece;
   std::vector<std::size_t> kept(pieces);
   std::vector<Bounds3> pieceBounds(pieces);
@@ -65,7 +65,6 @@ std::size_t rebuildShape(Object& o, typename Shape::Geometry& g, BvhBuildQuality
     for (std::size_t i = b; i < e; ++i) {
       if (!Shape::bounds(g, uint32_t(i), box)) continue;
       boxes[m] = box;
-      centroids[m] = box.center();
       valid[m++] = uint32_t(i);
       all.extend(box);
     }
@@ -77,23 +76,19 @@ std::size_t rebuildShape(Object& o, typename Shape::Geometry& g, BvhBuildQuality
   for (std::size_t k = 0; k < pieces; ++k) {
     const std::size_t b = k * kPiece;
     if (nValid != b) {  // some primitive before was left out
-      std::copy(boxes.begin() + b, boxes.begin() + b + kept[k], boxes.begin() + nValid);
-      std::copy(centroids.begin() + b, centroids.begin() + b + kept[k], centroids.begin() + nValid);
-      std::copy(valid.begin() + b, valid.begin() + b + kept[k], valid.begin() + nValid);
+      std::copy(boxes.data() + b, boxes.data() + b + kept[k], boxes.data() + nValid);
+      std::copy(valid.data() + b, valid.data() + b + kept[k], valid.data() + nValid);
     }
     nValid += kept[k];
     o.bounds.extend(pieceBounds[k]);
   }
-  boxes.resize(nValid);
-  centroids.resize(nValid);
-  valid.resize(nValid);
   BvhBuildOptions opt;
   opt.quality = quality;
-  o.bvh.build(boxes, centroids, opt);
+  o.bvh.build(boxes.data(), nullptr, nValid, opt);  // centroids: the boxes' centres
   o.builtCost = o.bvh.sahCost();
   o.builtQuality = quality;
-  applyLeafOrder<Shape>(o, g, valid, n);
-  return n - valid.size();
+  applyLeafOrder<Shape>(o, g, valid.data(), nValid, n);
+  return n - nValid;
 }
 
 template <typename Shape>
@@ -169,7 +164,7 @@ void Object::adoptTree(Bvh tree, const std::vector<uint32_t>& valid, BvhBuildQua
     bvh = std::move(tree);
     builtCost = bvh.sahCost();
     builtQuality = quality;
-    applyLeafOrder<Shape>(*this, g, valid, Shape::count(g));
+    applyLeafOrder<Shape>(*this, g, valid.data(), valid.size(), Shape::count(g));
   });
 }
 

@@ -593,6 +593,20 @@ TEST(Scene, ObjectRebuildDoesNotDependOnTheCoreCount) {
     EXPECT_EQ(a.bounds.lo, b.bounds.lo);
     EXPECT_EQ(a.bounds.hi, b.bounds.hi);
     EXPECT_EQ(std::get<TriangleMesh>(a.geometry).triangles, std::get<TriangleMesh>(b.geometry).triangles);
+    // The rebuild (boxes only: centroids implied) builds the tree that a background build from validBoxes()
+    // (explicit centres) gives: the upgrade's swap relies on it
+    std::vector<Bounds3> boxes;
+    std::vector<Vec3> centroids;
+    std::vector<uint32_t> valid;
+    a.validBoxes(boxes, centroids, valid);
+    BvhBuildOptions opt;
+    opt.quality = a.builtQuality;
+    Bvh fromValid;
+    fromValid.build(boxes, centroids, opt);
+    EXPECT_EQ(fromValid.primIndices(), a.bvh.primIndices());
+    ASSERT_EQ(fromValid.nodes().size(), a.bvh.nodes().size());
+    EXPECT_EQ(std::memcmp(fromValid.nodes().data(), a.bvh.nodes().data(), a.bvh.nodes().size() * sizeof(BvhWideNode)),
+              0);
     all->waitForUpgrades();
   }
 }

@@ -3,7 +3,8 @@
 // medium / high quality), at each thread count of
 // --threads-list. Equal threads on both sides: Embree gets a device with that many threads; our builder, which
 // picks its own threads, runs confined to that many cores (CpuLimit). Both sides alternate run by run; the
-// primary-ray speed each build gives is measured with all threads.
+// primary-ray speed each build gives is measured with all threads. --fast-only: only the fast commit and Embree
+// low (quick A/B runs of the fast build and profiles of it).
 #include "bench_commands.h"
 #include "bench_trace.h"
 
@@ -30,6 +31,7 @@ int cmdBuild(const Args& a) {
   if (!loadScene(a, bs)) return 2;
   int reps = a.integer("reps", 3), warmup = a.integer("warmup", 1);
   bool useEmbree = kHaveEmbree && !a.has("no-embree");
+  const bool fastOnly = a.has("fast-only");
   (void)useEmbree;  // used only with WHITTED_HAVE_EMBREE
   int tw = 512, th = 512;
   a.size("trace-size", tw, th);
@@ -79,14 +81,15 @@ int cmdBuild(const Args& a) {
     std::unique_ptr<EmbreeDevice> dev;
     if (useEmbree) {
       dev = std::make_unique<EmbreeDevice>(threads);
-      for (auto [q, name] : qualities) embreeRuns.push_back({"embree", name, prims, {}, {}, 0.0, 0.0, 0.0});
+      for (auto [q, name] : qualities)
+        if (!fastOnly || q == RTC_BUILD_QUALITY_LOW) embreeRuns.push_back({"embree", name, prims, {}, {}, 0.0, 0.0, 0.0});
     }
 #endif
     Bvh bvh;
     for (int r = 0; r < warmup + reps; ++r) {
       const bool timed = r >= warmup, final = r == warmup + reps - 1;
       // Ours, as the renderer sees it: validity checks, boxes, SAH or Morton build, leaf-order copies
-      for (int q = 0; q < 2; ++q) {
+      for (int q = fastOnly ? 1 : 0; q < 2; ++q) {
         bs.scene.setReplacedBuildQuality(commitQuality[q]);
         for (uint32_t o = 0; o < bs.scene.objectCount(); ++o) setObjectFrom(bs.scene, o, bs.scene);
         {
@@ -106,7 +109,7 @@ int cmdBuild(const Args& a) {
           commitRuns[q].primaryMrays =
               mrays(timeRepeated(1, 3, [&] { return traceOurs(bs.scene, primary, allThreads, res); }).median);
       }
-      if (!boxes.empty()) {
+      if (!boxes.empty() && !fastOnly) {
         CpuLimit cores(threads);
         double t0 = now(), c0 = processCpuNow();
         bvh.build(boxes, cents);
@@ -135,8 +138,10 @@ int cmdBuild(const Args& a) {
     bvhRuns.bytes = bvhRuns.peakBytes = double(bvh.memoryBytes());
     bs.scene.setReplacedBuildQuality(BvhBuildQuality::Fast);
 
-    std::vector<BuildRuns> rows = {commitRuns[0], commitRuns[1]};
-    if (!boxes.empty()) rows.push_back(bvhRuns);
+    std::vector<BuildRuns> rows;
+    if (!fastOnly) rows.push_back(commitRuns[0]);
+    rows.push_back(commitRuns[1]);
+    if (!boxes.empty() && !fastOnly) rows.push_back(bvhRuns);
     rows.insert(rows.end(), embreeRuns.begin(), embreeRuns.end());
     for (const BuildRuns& b : rows) {
       Timing t = summarize(b.wall), tc = summarize(b.cpu);
