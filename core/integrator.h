@@ -51,6 +51,10 @@ struct IntegratorSettings {
   /// and the ray counts are the same either way; off traces every shadow ray alone (tests, measurements).
   /// Default on.
   bool packets = true;
+  /// Camera rays traced in blocks find their first hits as one closest-hit packet (Scene::intersectPacket), which
+  /// shares each BVH node's load among the block's rays. The image and the ray counts are the same either way.
+  /// Default on.
+  bool primaryPackets = true;
 };
 
 /// Ray counts of one frame (summed over threads).
