@@ -382,25 +382,15 @@ class Bvh {
   template <typename LeafFn>
   unsigned traverseAny4(const Ray* rays, unsigned active, LeafFn&& leaf, uint64_t* nodesVisited = nullptr,
                         LeafData leafData = {}) const {
-    if (wide_.empty()) return 0;
-    for (int i = 0; i < 4; ++i)
-      if ((active >> i & 1) && (!isFinite(rays[i].origin) || !isFinite(rays[i].dir))) active &= ~(1u << i);
-    if (active == 0) return 0;
+    if (wide_.empty() || (active = finiteRays(rays, active)) == 0) return 0;
     if (isOneLeaf()) {  // see traverse()
       if (nodesVisited) ++*nodesVisited;
       return leaf(wide_[0].first[0], wide_[0].count[0], active) & active;
     }
     BoxRay br[4];
     __m128 tMinV[4], tMaxV[4];
-    for (int i = 0; i < 4; ++i)
-      if (active >> i & 1) {
-        br[i] = BoxRay(rays[i], anchor_);
-        tMinV[i] = _mm_set1_ps(floatBelow(rays[i].tMin * br[i].tScale));
-        tMaxV[i] = _mm_set1_ps(floatAbove(rays[i].tMax * br[i].tScale));
-      }
-    const Vec3 extent = bounds_.hi - bounds_.lo;
-    const JointBoxRay joint(br, tMinV, tMaxV, active,
-                            float(std::max(extent.x, std::max(extent.y, extent.z)) * kJointSpread));
+    alignas(16) float tMaxF[4];
+    const JointBoxRay joint = prepare(rays, active, nullptr, br, tMinV, tMaxV, tMaxF);
     struct Entry {
       uint32_t first, count;
       unsigned rays;
@@ -487,27 +477,15 @@ class Bvh {
   template <typename LeafFn>
   unsigned traverse4(const Ray* rays, unsigned active, double* tMax, LeafFn&& leaf, uint64_t* nodesVisited = nullptr,
                      LeafData leafData = {}) const {
-    if (wide_.empty()) return 0;
-    for (int i = 0; i < 4; ++i)
-      if ((active >> i & 1) && (!isFinite(rays[i].origin) || !isFinite(rays[i].dir))) active &= ~(1u << i);
-    if (active == 0) return 0;
+    if (wide_.empty() || (active = finiteRays(rays, active)) == 0) return 0;
     if (isOneLeaf()) {  // see traverse()
       if (nodesVisited) ++*nodesVisited;
       return leaf(wide_[0].first[0], wide_[0].count[0], active, tMax) & active;
     }
     BoxRay br[4];
     __m128 tMinV[4], tMaxV[4];
-    alignas(16) float tMaxF[4] = {0.0f, 0.0f, 0.0f, 0.0f};  // lane i: ray i's limit (its box-test units)
-    for (int i = 0; i < 4; ++i)
-      if (active >> i & 1) {
-        br[i] = BoxRay(rays[i], anchor_);
-        tMinV[i] = _mm_set1_ps(floatBelow(rays[i].tMin * br[i].tScale));
-        tMaxF[i] = floatAbove(tMax[i] * br[i].tScale);
-        tMaxV[i] = _mm_set1_ps(tMaxF[i]);
-      }
-    const Vec3 extent = bounds_.hi - bounds_.lo;
-    const JointBoxRay joint(br, tMinV, tMaxV, active,
-                            float(std::max(extent.x, std::max(extent.y, extent.z)) * kJointSpread));
+    alignas(16) float tMaxF[4];  // lane i: ray i's limit (its box-test units)
+    const JointBoxRay joint = prepare(rays, active, tMax, br, tMinV, tMaxV, tMaxF);
     __m128 jointTMax = joint.valid ? joint.tMax : _mm_setzero_ps();  // the largest active limit (one tScale)
     struct Entry {
       __m128 t;  // lane i: ray i's entry distance (box-test units), at most its own computed one
@@ -550,11 +528,14 @@ class Bvh {
           const unsigned hit = joint.test(n, jointTMax, t0) & used;
           _mm_store_ps(tJoint, t0);
           children = 0;
+          const __m128 limits = _mm_load_ps(tMaxF);
           for (int c = 0; c < 4; ++c) {
             if (!(hit >> c & 1)) continue;
             if (n.count[c] == 0) {
-              enter[c] = cur.rays;
-              _mm_store_ps(tEnter[c], _mm_set1_ps(tJoint[c]));
+              // The rays whose current limit lies beyond the joint entry distance (one tScale: comparable)
+              const __m128 t = _mm_set1_ps(tJoint[c]);
+              enter[c] = cur.rays & unsigned(_mm_movemask_ps(_mm_cmple_ps(t, limits)));
+              _mm_store_ps(tEnter[c], t);
             } else {
               children |= 1u << c;
             }
@@ -626,6 +607,28 @@ class Bvh {
   }
 
  private:
+  /// active without the rays whose origin or direction is not finite (they visit nothing, as in traverse()).
+  static unsigned finiteRays(const Ray* rays, unsigned active) {
+    for (int i = 0; i < 4; ++i)
+      if ((active >> i & 1) && (!isFinite(rays[i].origin) || !isFinite(rays[i].dir))) active &= ~(1u << i);
+    return active;
+  }
+  /// A packet's per-ray box-test set-up (limits tMax[i], or each ray's tMax without it; lanes of inactive rays are
+  /// 0 in tMaxF) and its joint test.
+  JointBoxRay prepare(const Ray* rays, unsigned active, const double* tMax, BoxRay* br, __m128* tMinV,
+                      __m128* tMaxV, float* tMaxF) const {
+    for (int i = 0; i < 4; ++i) {
+      tMaxF[i] = 0.0f;
+      if (!(active >> i & 1)) continue;
+      br[i] = BoxRay(rays[i], anchor_);
+      tMinV[i] = _mm_set1_ps(floatBelow(rays[i].tMin * br[i].tScale));
+      tMaxF[i] = floatAbove((tMax ? tMax[i] : rays[i].tMax) * br[i].tScale);
+      tMaxV[i] = _mm_set1_ps(tMaxF[i]);
+    }
+    const Vec3 extent = bounds_.hi - bounds_.lo;
+    return JointBoxRay(br, tMinV, tMaxV, active,
+                       float(std::max(extent.x, std::max(extent.y, extent.z)) * kJointSpread));
+  }
   /// The tree is one leaf: a root with a single leaf child.
   bool isOneLeaf() const {
     const BvhWideNode& root = wide_[0];

@@ -53,8 +53,8 @@ struct IntegratorSettings {
   bool packets = true;
   /// Camera rays traced in blocks find their first hits as one closest-hit packet (Scene::intersectPacket), which
   /// shares each BVH node's load among the block's rays. The image and the ray counts are the same either way.
-  /// Default on.
-  bool primaryPackets = true;
+  /// Default off: measured slower than single rays on the 1M isosurface (data/benchmark/history.md, ppacket).
+  bool primaryPackets = false;
 };
 
 /// Ray counts of one frame (summed over threads).
