@@ -143,22 +143,34 @@ Sample Integrator::trace(const Ray& ray, RayStats& stats, const Color& screenBac
 }
 
 void Integrator::traceBlock(const Ray* rays, int n, RayStats* stats, const Color* screenBackground, Sample* out) const {
-  // Scenes with transmissive surfaces trace single rays: there a packet's blocked rays go again through
+  // Scenes with transmissive surfaces trace single shadow rays: there a packet's blocked rays go again through
   // transmittance() (Scene::occludedPacket), which made the classic scene's frame 6% slower
-  if (!s_.packets || !shadows_ || n < 2 || scene_.features().transmissive) {
+  const bool shadowPackets = s_.packets && shadows_ && !scene_.features().transmissive;
+  if ((!shadowPackets && !s_.primaryPackets) || n < 2) {
     for (int i = 0; i < n; ++i) out[i] = trace(rays[i], stats[i], screenBackground[i]);
     return;
   }
-  // First hits and their shadow rays (recorded by shadeLocal's own gating, so the same rays trace() casts)
+  // First hits (one packet, or ray by ray) and their shadow rays (recorded by shadeLocal's own gating, so the same
+  // rays trace() casts)
   FirstHit fh[kBlock];
   PathState ps[kBlock];
+  unsigned found = 0;
+  if (s_.primaryPackets) {
+    Hit hits[kBlock];
+    found = scene_.intersectPacket(rays, (1u << n) - 1u, hits, &stats[0].nodesVisited);
+    for (int i = 0; i < n; ++i) fh[i].hit = hits[i];
+  }
   for (int i = 0; i < n; ++i) {
     ++stats[i].primary;
     startPath(rays[i], screenBackground[i], ps[i]);
-    fh[i].found = scene_.intersect(rays[i], fh[i].hit, &stats[i].nodesVisited);
+    if (s_.primaryPackets)
+      fh[i].found = found >> i & 1;
+    else
+      fh[i].found = scene_.intersect(rays[i], fh[i].hit, &stats[i].nodesVisited);
     if (!fh[i].found) continue;
     HitFrame& f = fh[i].frame;
     frameHit(rays[i], fh[i].hit, 0, ps[i], f);
+    if (!shadows_) continue;
     const Material& m = f.material();
     const bool inside = f.backFace && maxComponent(m.transmittance) > 0.0f;
     Color highlight;
@@ -177,7 +189,8 @@ void Integrator::traceBlock(const Ray* rays, int n, RayStats* stats, const Color
       }
     if (active == 0) continue;
     unsigned blocked = 0, single = active;
-    if (active & (active - 1)) single = scene_.occludedPacket(packet, active, blocked, &stats[0].nodesVisited);
+    if (shadowPackets && (active & (active - 1)))
+      single = scene_.occludedPacket(packet, active, blocked, &stats[0].nodesVisited);
     for (unsigned m = active; m; m &= m - 1) {
       const int i = __builtin_ctz(m);
       fh[i].cut(j) = false;

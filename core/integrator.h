@@ -51,6 +51,10 @@ struct IntegratorSettings {
   /// and the ray counts are the same either way; off traces every shadow ray alone (tests, measurements).
   /// Default on.
   bool packets = true;
+  /// Camera rays traced in blocks find their first hits as one closest-hit packet (Scene::intersectPacket), which
+  /// shares each BVH node's load among the block's rays. The image and the ray counts are the same either way.
+  /// Default off: measured slower than single rays on the 1M isosurface (data/benchmark/history.md, ppacket).
+  bool primaryPackets = false;
 };
 
 /// Ray counts of one frame (summed over threads).
@@ -116,9 +120,10 @@ class Integrator {
   /// Traces n <= kBlock camera rays, e.g. of neighbouring pixels: out[i] is bit for bit trace(rays[i], stats[i],
   /// screenBackground[i]) and stats[i] gets the same ray counts (its nodesVisited differs). The shadow rays of
   /// the first hits toward each of the first kPacketLights lights are cast as one packet (Scene::occludedPacket),
-  /// which loads each BVH node once for the block's rays; everything after the first hit is traced per ray.
-  /// With IntegratorSettings::packets off, or in a scene with transmissive surfaces, the same as calling trace()
-  /// for each ray.
+  /// which loads each BVH node once for the block's rays; everything after the first hit is traced per ray. With
+  /// IntegratorSettings::primaryPackets the first hits are found as one packet (Scene::intersectPacket). With
+  /// IntegratorSettings::packets off, or in a scene with transmissive surfaces, the shadow rays go one by one, and
+  /// with neither kind of packet the same as calling trace() for each ray.
   void traceBlock(const Ray* rays, int n, RayStats* stats, const Color* screenBackground, Sample* out) const;
   static constexpr int kBlock = 4;
   static constexpr int kPacketLights = 8;

@@ -1,8 +1,9 @@
-// Shadow packets (Scene::occludedPacket, Integrator::traceBlock): the same image, ray counts and error bounds as
-// single shadow rays, for opaque and translucent occluders, instances (transformed, several levels of the top
-// tree), spheres and tubes, point, spot and directional lights, one and several samples per pixel. (Frames of
-// scenes with translucent surfaces trace single rays, see traceBlock: their frames check that gate; the packet
-// answers and hand-overs there are checked ray by ray.)
+// Shadow packets (Scene::occludedPacket, Integrator::traceBlock) and closest-hit packets of camera rays
+// (Scene::intersectPacket): the same hits, image, ray counts and error bounds as single rays. Shadow packets: for
+// opaque and translucent occluders, instances (transformed, several levels of the top tree), spheres and tubes,
+// point, spot and directional lights, one and several samples per pixel. (Frames of scenes with translucent
+// surfaces trace single shadow rays, see traceBlock: their frames check that gate; the packet answers and
+// hand-overs there are checked ray by ray.)
 #include "renderer.h"
 #include "scenes.h"
 
@@ -68,13 +69,16 @@ void buildShadowScene(Scene& s, bool translucent) {
   s.lights() = {point, spot, sun};
 }
 
-void expectSameFrames(const Scene& scene, const Camera& cam, RenderSettings rs, const std::string& what) {
+/// The frames with the packets of `which` (shadow or camera rays) off and on are the same.
+void expectSameFrames(const Scene& scene, const Camera& cam, RenderSettings rs, const std::string& what,
+                      bool IntegratorSettings::*which = &IntegratorSettings::packets) {
   FrameBuffer single, packets;
-  rs.integrator.packets = false;
+  rs.integrator.*which = false;
   const FrameStats a = render(scene, cam, rs, 61, 47, single);
-  rs.integrator.packets = true;
+  rs.integrator.*which = true;
   const FrameStats b = render(scene, cam, rs, 61, 47, packets);
-  ASSERT_GT(a.rays.shadow, 0u) << what;
+  if (rs.integrator.shadows) ASSERT_GT(a.rays.shadow, 0u) << what;
+  ASSERT_GT(a.rays.primary, 0u) << what;
   EXPECT_EQ(0, std::memcmp(single.color.data(), packets.color.data(), single.color.size() * sizeof(Color4))) << what;
   EXPECT_EQ(0, std::memcmp(single.depth.data(), packets.depth.data(), single.depth.size() * sizeof(float))) << what;
   EXPECT_EQ(0, std::memcmp(single.truncation.data(), packets.truncation.data(),
@@ -163,4 +167,128 @@ TEST(ShadowPackets, PacketAnswersAreTransmittance) {
     }
     EXPECT_GT(freeRays, 100) << translucent;
   }
+}
+
+namespace {
+
+/// A point cloud (many small spheres) and a second, coplanar copy of the floor grid (instances that tie at every
+/// floor hit: the lower instance id must win in any visiting order), on top of the shadow scene.
+void addPointsAndDuplicateFloor(Scene& s) {
+  SphereSet points;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 400; ++i)
+    points.centers.push_back(Vec3(2.5 + 0.6 * u(rng), 1.5 + 0.6 * u(rng), 0.6 + 0.4 * u(rng)));
+  points.radii = {0.03};
+  s.addInstance(s.addSpheres(points), Mat4(1.0), 0);
+  s.addInstance(s.addMesh(makeGrid(Vec3(-4, -4, 0), Vec3(8, 0, 0), Vec3(0, 8, 0), 16, 16)), Mat4(1.0), 1);
+}
+
+void expectSameHit(bool found, const Hit& h, bool foundSingle, const Hit& single, const std::string& what) {
+  ASSERT_EQ(foundSingle, found) << what;
+  if (!found) return;
+  EXPECT_EQ(0, std::memcmp(&single.t, &h.t, sizeof h.t)) << what << " t " << single.t << " " << h.t;
+  EXPECT_EQ(single.instance, h.instance) << what;
+  EXPECT_EQ(single.prim, h.prim) << what;
+  EXPECT_EQ(single.slot, h.slot) << what;
+  EXPECT_EQ(0, std::memcmp(&single.u, &h.u, sizeof h.u)) << what;
+  EXPECT_EQ(0, std::memcmp(&single.v, &h.v, sizeof h.v)) << what;
+}
+
+}  // namespace
+
+TEST(PrimaryPackets, SameFramesAsSingleRays) {
+  const auto camera = [](const Scene& s) {
+    CameraSpec cs;
+    cs.eye = Vec3(0.5, -7.0, 5.0);
+    cs.focal = Vec3(0.0, 0.0, 0.5);
+    cs.up = Vec3(0, 0, 1);
+    return cs.make(61.0 / 47.0, s.bounds());
+  };
+  for (bool translucent : {false, true}) {
+    Scene s;
+    buildShadowScene(s, translucent);
+    addPointsAndDuplicateFloor(s);
+    s.commit();
+    const Camera cam = camera(s);
+    const std::string name = translucent ? "translucent occluders" : "opaque occluders";
+    for (bool shadowPackets : {false, true}) {
+      RenderSettings rs;
+      rs.threads = 2;
+      rs.integrator.packets = shadowPackets;
+      const std::string what = name + (shadowPackets ? ", shadow packets" : ", single shadow rays");
+      expectSameFrames(s, cam, rs, what + ", 1 spp", &IntegratorSettings::primaryPackets);
+      rs.samplesPerPixel = 4;
+      expectSameFrames(s, cam, rs, what + ", 4 spp", &IntegratorSettings::primaryPackets);
+      rs.adaptive = true;
+      expectSameFrames(s, cam, rs, what + ", 4 spp adaptive", &IntegratorSettings::primaryPackets);
+    }
+    RenderSettings rs;
+    rs.threads = 2;
+    rs.integrator.shadows = false;
+    expectSameFrames(s, cam, rs, name + ", no shadows", &IntegratorSettings::primaryPackets);
+  }
+  // The classic scene: glass and mirror spheres (reflections, refractions) over a floor; and its mesh version
+  for (int subdivisions : {0, 24}) {
+    Scene c;
+    CameraSpec cs;
+    buildClassicScene(c, cs, subdivisions);
+    c.commit();
+    RenderSettings rs;
+    rs.threads = 2;
+    const Camera cam = cs.make(61.0 / 47.0, c.bounds());
+    expectSameFrames(c, cam, rs, "classic 1 spp", &IntegratorSettings::primaryPackets);
+    rs.samplesPerPixel = 4;
+    rs.adaptive = true;
+    expectSameFrames(c, cam, rs, "classic 4 spp adaptive", &IntegratorSettings::primaryPackets);
+  }
+}
+
+// Each packet hit is intersect()'s, bit for bit: random coherent packets, packets whose rays share an origin, and
+// rays aimed exactly at the floor grid's vertices and edges (ties between triangles) and at its coplanar copy (ties
+// between instances), in a scene with a top level and in a single-instance one.
+TEST(PrimaryPackets, HitsAreSingleRayHits) {
+  Scene s;
+  buildShadowScene(s, false);
+  addPointsAndDuplicateFloor(s);
+  s.commit();
+  Scene one;  // a single identity instance: no top level
+  one.addInstance(one.addMesh(makeGrid(Vec3(-4, -4, 0), Vec3(8, 0, 0), Vec3(0, 8, 0), 16, 16)), Mat4(1.0), 0);
+  one.commit();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int> grid(-8, 8);
+  int hits = 0, ties = 0;
+  for (int packet = 0; packet < 2000; ++packet) {
+    const Scene& scene = packet % 4 == 3 ? one : s;
+    const int kind = packet % 3;  // 0: nearby origins, 1: one shared origin, 2: aimed at grid vertices and edges
+    const Vec3 eye(6.0 * u(rng), -7.0 + u(rng), 3.0 + 3.0 * u(rng)), target(3.0 * u(rng), 3.0 * u(rng), u(rng));
+    Ray rays[4];
+    for (int i = 0; i < 4; ++i) {
+      rays[i].origin = kind == 0 ? eye + Vec3(0.01 * u(rng), 0.01 * u(rng), 0.01 * u(rng)) : eye;
+      Vec3 to = target + Vec3(0.05 * u(rng), 0.05 * u(rng), 0.05 * u(rng));
+      if (kind == 2) {
+        // A grid vertex (multiples of 0.5) or the middle of an edge: hit by several triangles at the same t
+        to = Vec3(0.5 * grid(rng), 0.5 * grid(rng), 0.0);
+        if (i & 1) to.x += 0.25;
+      }
+      rays[i].dir = to - rays[i].origin;
+      rays[i].tMin = 0.0;
+      rays[i].tMax = packet % 5 == 4 ? 0.999 : kInfinity;
+    }
+    const unsigned active = packet % 7 == 6 ? 1u + unsigned(packet % 15) : 0xfu;
+    Hit h[4];
+    const unsigned found = scene.intersectPacket(rays, active, h);
+    EXPECT_EQ(0u, found & ~active);
+    for (int i = 0; i < 4; ++i) {
+      if (!(active >> i & 1)) continue;
+      Hit single;
+      const bool foundSingle = scene.intersect(rays[i], single);
+      expectSameHit(found >> i & 1, h[i], foundSingle, single, std::to_string(packet) + " " + std::to_string(i));
+      hits += foundSingle;
+      ties += foundSingle && kind == 2 && (single.u == 0.0 || single.v == 0.0 || single.u + single.v == 1.0);
+    }
+  }
+  EXPECT_GT(hits, 4000);
+  EXPECT_GT(ties, 500);  // hits on an edge or vertex (a barycentric coordinate exactly 0)
 }

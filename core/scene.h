@@ -231,6 +231,10 @@ class Scene {
   /// Closest hit along ray in (tMin, tMax); among hits at the same distance (within 1e-10 relative) the lowest
   /// (instance, primitive) wins. nodes, if given, counts visited BVH nodes.
   bool intersect(const Ray& ray, Hit& hit, uint64_t* nodes = nullptr) const;
+  /// Closest-hit packet: the rays rays[i] of the bit mask active (at most four, e.g. camera rays of neighbouring
+  /// pixels) walk the BVHs together; hits[i] is exactly intersect(rays[i], hits[i])'s hit, and bit i of the result
+  /// its return value. nodes, if given, counts visited BVH nodes once per packet.
+  unsigned intersectPacket(const Ray* rays, unsigned active, Hit* hits, uint64_t* nodes = nullptr) const;
 
   /// Transmittance along a shadow ray over (tMin, tMax): zero if an opaque surface blocks it, otherwise the
   /// product of kt of every transmissive surface crossed. A surface crossed once attenuates once: a crossing that

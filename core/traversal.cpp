@@ -61,42 +61,90 @@ LeafData leafData(const typename Shape::Geometry& g) {
   }
 }
 
+/// Hits within kTieRelative * t of the best one count as the same distance: the lower (instance, primitive) wins,
+/// as the first-drawn surface wins OpenGL's depth test, so coplanar overlapping surfaces never speckle. The rule
+/// does not depend on the order in which the hits are met (so a packet, which visits leaves in another order, finds
+/// the single ray's hit).
+constexpr double kTieRelative = 1e-10;
+
+/// Leaf test of a closest-hit walk: primitive slots [first, first+count) of instance's object against the
+/// object-space ray, whose limit is tm; keeps the best hit by the tie rule and returns true if hit changed.
+/// Performance note: the limit is widened by the tie tolerance so tying candidates are not culled.
+template <typename Shape>
+bool closestLeaf(const typename Shape::Tester& test, const uint32_t* leafPrims, uint32_t instance, const Ray& ray,
+                 double tLimit, uint32_t first, uint32_t count, double& tm, Hit& hit) {
+  Ray r = ray;
+  bool found = false;
+  for (uint32_t s = first; s < first + count; ++s) {
+    r.tMax = tm;
+    const std::optional<PrimHit> h = test(s, r);
+    if (h) {
+      uint32_t prim = leafPrims[s];
+      double tie = kTieRelative * std::abs(hit.t);
+      bool better = !(h->t >= hit.t - tie);  // clearly closer (or the first hit)
+      if (!better && h->t <= hit.t + tie)
+        better = instance < hit.instance || (instance == hit.instance && prim < hit.prim);
+      if (better) {
+        hit.t = h->t;
+        hit.instance = instance;
+        hit.prim = prim;
+        hit.slot = s;
+        hit.u = h->u;
+        hit.v = h->v;
+        tm = std::min(tLimit, hit.t + kTieRelative * std::abs(hit.t));
+        found = true;
+      }
+    }
+  }
+  return found;
+}
+
 /// Closest hit of an object-space ray with object o of shape Shape (instance: its instance id, for the tie-break).
 /// Shrinks tMax and updates hit; returns true if hit changed.
 template <typename Shape>
 bool closestHit(const Object& o, const typename Shape::Geometry& g, uint32_t instance, const Ray& ray, double& tMax,
                 Hit& hit, uint64_t* nodes) {
-  // Hits within kTieRelative * t of the best one count as the same distance: the lower (instance, primitive) wins,
-  // as the first-drawn surface wins OpenGL's depth test, so coplanar overlapping surfaces never speckle.
-  // Performance note: the traversal bound is widened by the same tolerance so tying candidates are not culled.
-  constexpr double kTieRelative = 1e-10;
   const double tLimit = ray.tMax;
   const uint32_t* leafPrims = o.leafPrims();
   return o.bvh.traverse<false>(
       ray, tMax,
       [&, test = typename Shape::Tester(g, leafPrims, ray)](uint32_t first, uint32_t count, double& tm) {
-        Ray r = ray;
-        bool found = false;
-        for (uint32_t s = first; s < first + count; ++s) {
-          r.tMax = tm;
-          const std::optional<PrimHit> h = test(s, r);
-          if (h) {
-            uint32_t prim = leafPrims[s];
-            double tie = kTieRelative * std::abs(hit.t);
-            bool better = !(h->t >= hit.t - tie);  // clearly closer (or the first hit)
-            if (!better && h->t <= hit.t + tie)
-              better = instance < hit.instance || (instance == hit.instance && prim < hit.prim);
-            if (better) {
-              hit.t = h->t;
-              hit.instance = instance;
-              hit.prim = prim;
-              hit.slot = s;
-              hit.u = h->u;
-              hit.v = h->v;
-              tm = std::min(tLimit, hit.t + kTieRelative * std::abs(hit.t));
-              found = true;
-            }
-          }
+        return closestLeaf<Shape>(test, leafPrims, instance, ray, tLimit, first, count, tm, hit);
+      },
+      nodes, leafData<Shape>(g));
+}
+
+/// Testers (a Tester has no default constructor) for the active rays of a packet, set up in place.
+template <typename Shape>
+struct PacketTesters {
+  using Tester = typename Shape::Tester;
+  static_assert(std::is_trivially_destructible_v<Tester>, "the testers are never destroyed");
+  alignas(Tester) unsigned char storage[4][sizeof(Tester)];
+  const Tester* test[4] = {};
+  PacketTesters(const typename Shape::Geometry& g, const uint32_t* leafPrims, const Ray* r, unsigned active) {
+    for (unsigned m = active; m; m &= m - 1) {
+      const int i = __builtin_ctz(m);
+      test[i] = new (storage[i]) Tester(g, leafPrims, r[i]);
+    }
+  }
+  const Tester& operator[](int i) const { return *test[i]; }
+};
+
+/// closestHit() for the object-space rays r[i] of the bit mask active, walking o's tree as one packet (tMax[i],
+/// hit[i]: each ray's). Returns the mask of rays whose hit changed.
+template <typename Shape>
+unsigned closestHit4(const Object& o, const typename Shape::Geometry& g, uint32_t instance, const Ray* r,
+                     unsigned active, double* tMax, Hit* hit, uint64_t* nodes) {
+  const uint32_t* leafPrims = o.leafPrims();
+  const PacketTesters<Shape> test(g, leafPrims, r, active);
+  return o.bvh.traverse4(
+      r, active, tMax,
+      [&](uint32_t first, uint32_t count, unsigned rays, double* tm) {
+        unsigned found = 0;
+        for (unsigned m = rays; m; m &= m - 1) {
+          const int i = __builtin_ctz(m);
+          if (closestLeaf<Shape>(test[i], leafPrims, instance, r[i], r[i].tMax, first, count, tm[i], hit[i]))
+            found |= 1u << i;
         }
         return found;
       },
@@ -142,15 +190,7 @@ bool crossObject(const Object& o, const typename Shape::Geometry& g, const Ray& 
 template <typename Shape>
 unsigned blockObject4(const Object& o, const typename Shape::Geometry& g, const Ray* r, unsigned active,
                       uint64_t* nodes) {
-  using Tester = typename Shape::Tester;
-  // The testers' per-ray set-up, for the active rays only (a Tester has no default constructor)
-  alignas(Tester) unsigned char storage[4][sizeof(Tester)];
-  Tester* test[4] = {};
-  for (unsigned m = active; m; m &= m - 1) {
-    const int i = __builtin_ctz(m);
-    test[i] = new (storage[i]) Tester(g, o.leafPrims(), r[i]);
-  }
-  static_assert(std::is_trivially_destructible_v<Tester>, "the testers are never destroyed");
+  const PacketTesters<Shape> test(g, o.leafPrims(), r, active);
   return o.bvh.traverseAny4(
       r, active,
       [&](uint32_t f, uint32_t c, unsigned rays) {
@@ -158,7 +198,7 @@ unsigned blockObject4(const Object& o, const typename Shape::Geometry& g, const 
         for (unsigned m = rays; m; m &= m - 1) {
           const int i = __builtin_ctz(m);
           for (uint32_t k = f; k < f + c; ++k)
-            if ((*test[i])(k, r[i])) {
+            if (test[i](k, r[i])) {
               blocked |= 1u << i;
               break;
             }
@@ -228,6 +268,36 @@ bool Scene::intersect(const Ray& ray, Hit& hit, uint64_t* nodes) const {
   // A single instance needs no top level (its object's root node tests the same box)
   if (topInstances_.size() == 1) return instancesInLeaf(0, 1, tMax);
   return top_.traverse<false>(ray, tMax, instancesInLeaf, nodes);
+}
+
+unsigned Scene::intersectPacket(const Ray* rays, unsigned active, Hit* hits, uint64_t* nodes) const {
+  double tMax[4];
+  for (unsigned m = active; m; m &= m - 1) {
+    const int i = __builtin_ctz(m);
+    hits[i] = Hit{};
+    tMax[i] = rays[i].tMax;
+  }
+  auto instancesInLeaf = [&](uint32_t first, uint32_t count, unsigned raysIn, double* tm) {
+    unsigned any = 0;
+    for (uint32_t s = first; s < first + count; ++s) {
+      const uint32_t id = topInstances_[s];
+      const Instance& in = instances_[id];
+      const Object& o = objects_[in.object];
+      Ray r[4];
+      for (unsigned m = raysIn; m; m &= m - 1) {
+        const int i = __builtin_ctz(m);
+        r[i] = in.objectRay(rays[i]);
+        r[i].tMax = tm[i];
+      }
+      any |= visitShape(o, [&](auto shape, const auto& g) {
+        return closestHit4<decltype(shape)>(o, g, id, r, raysIn, tm, hits, nodes);
+      });
+    }
+    return any;
+  };
+  // A single instance needs no top level (as intersect())
+  if (topInstances_.size() == 1) return instancesInLeaf(0, 1, active, tMax) & active;
+  return top_.traverse4(rays, active, tMax, instancesInLeaf, nodes);
 }
 
 Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes, bool* cutByThreshold) const {

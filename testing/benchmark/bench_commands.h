@@ -35,7 +35,8 @@ bool loadScene(const Args& a, BenchScene& bs);
 /// Thread counts from --threads-list (default "1,0"; 0 = all usable cores), sorted and unique.
 std::vector<int> threadList(const Args& a);
 
-/// Render settings from --spp, --adaptive, --depth, --threshold, --no-shadows, --no-packets (defaults: the renderer's).
+/// Render settings from --spp, --adaptive, --depth, --threshold, --no-shadows, --no-packets,
+/// --primary-packets (defaults: the renderer's).
 RenderSettings settingsFrom(const Args& a);
 
 /// Hands object `object` of `source` to `scene` again as fresh geometry (a copy, set with setMesh / setSpheres /

@@ -27,6 +27,10 @@ RayBatch primaryRays(const Camera& cam, int w, int h) {
 std::vector<RayBatch> makeRays(const Scene& scene, const Camera& cam, int w, int h) {
   std::vector<RayBatch> out(3);
   out[0] = primaryRays(cam, w, h);
+  // The camera rays again, as packets of 4 pixels of a row (what Integrator::traceBlock traces at 1 spp)
+  RayBatch primary4 = out[0];
+  primary4.kind = "primary4";
+  primary4.packets = true;
   out[1].kind = "shadow";
   out[1].occlusion = true;
   out[2].kind = "incoherent";
@@ -65,6 +69,7 @@ std::vector<RayBatch> makeRays(const Scene& scene, const Camera& cam, int w, int
   packets.kind = "shadow4";
   packets.packets = true;
   out.insert(out.begin() + 2, std::move(packets));
+  out.insert(out.begin() + 1, std::move(primary4));
   return out;
 }
 
@@ -72,6 +77,21 @@ double traceOurs(const Scene& scene, const RayBatch& b, int threads, RayResults&
   return parallelFor(
       b.rays.size(), threads,
       [&](std::size_t lo, std::size_t hi, int) {
+        if (b.packets && !b.occlusion) {
+          for (std::size_t i = lo; i < hi; i += 4) {
+            const int n = int(std::min<std::size_t>(4, hi - i));
+            Hit h[4];
+            const unsigned found = scene.intersectPacket(&b.rays[i], (1u << n) - 1u, h);
+            for (int k = 0; k < n; ++k) {
+              const std::size_t j = i + std::size_t(k);
+              out.hit[j] = found >> k & 1;
+              out.geom[j] = h[k].instance;
+              out.prim[j] = h[k].prim;
+              out.t[j] = float(h[k].t);
+            }
+          }
+          return;
+        }
         if (b.packets) {
           for (std::size_t i = lo; i < hi; i += 4) {
             const int n = int(std::min<std::size_t>(4, hi - i));
@@ -142,8 +162,25 @@ double traceEmbree(RTCScene scene, const std::vector<RTCRay>& rays, bool occlusi
               r.tnear[k] = e.tnear, r.tfar[k] = e.tfar, r.time[k] = e.time;
               r.mask[k] = e.mask, r.id[k] = e.id, r.flags[k] = e.flags;
             }
-            rtcOccluded4(valid, scene, &ctx, &r);
-            for (int k = 0; k < n; ++k) out.hit[i + std::size_t(k)] = r.tfar[k] < 0.0f;
+            if (occlusion) {
+              rtcOccluded4(valid, scene, &ctx, &r);
+              for (int k = 0; k < n; ++k) out.hit[i + std::size_t(k)] = r.tfar[k] < 0.0f;
+            } else {
+              alignas(16) RTCRayHit4 rh;
+              rh.ray = r;
+              for (int k = 0; k < 4; ++k) {
+                rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+              }
+              rtcIntersect4(valid, scene, &ctx, &rh);
+              for (int k = 0; k < n; ++k) {
+                const std::size_t j = i + std::size_t(k);
+                out.hit[j] = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+                out.geom[j] = rh.hit.geomID[k];
+                out.prim[j] = rh.hit.primID[k];
+                out.t[j] = rh.ray.tfar[k];
+              }
+            }
           }
           return;
         }

@@ -16,8 +16,8 @@ namespace whitted::bench {
 struct RayBatch {
   std::string kind;        ///< primary, shadow, incoherent
   bool occlusion = false;  ///< any-hit query (shadow rays)
-  /// Traced four at a time (consecutive rays: neighbouring pixels' shadow rays): ours through
-  /// Scene::occludedPacket, Embree through rtcOccluded4. Any-hit batches only.
+  /// Traced four at a time (consecutive rays: 4 pixels of a row, or neighbouring pixels' shadow rays): ours
+  /// through Scene::intersectPacket / Scene::occludedPacket, Embree through rtcIntersect4 / rtcOccluded4.
   bool packets = false;
   std::vector<Ray> rays;
 };
@@ -40,8 +40,8 @@ RayBatch primaryRays(const Camera& cam, int w, int h);
 std::vector<RayBatch> makeRays(const Scene& scene, const Camera& cam, int w, int h);
 
 /// Traces a batch with Scene::intersect (closest hit), Scene::transmittance (any hit; materials must be opaque) or
-/// Scene::occludedPacket (packet batches) on `threads` threads; returns wall seconds, *cpu = CPU seconds of the
-/// tracing threads.
+/// Scene::intersectPacket / Scene::occludedPacket (packet batches) on `threads` threads; returns wall seconds,
+/// *cpu = CPU seconds of the tracing threads.
 double traceOurs(const Scene& scene, const RayBatch& b, int threads, RayResults& out, double* cpu = nullptr);
 
 #ifdef WHITTED_HAVE_EMBREE
@@ -49,7 +49,8 @@ double traceOurs(const Scene& scene, const RayBatch& b, int threads, RayResults&
 void toEmbree(const Ray& r, RTCRay& e);
 std::vector<RTCRay> toEmbree(const std::vector<Ray>& rays);
 
-/// Traces with rtcIntersect1 / rtcOccluded1 (rtcOccluded4 for a packet batch); same contract as traceOurs.
+/// Traces with rtcIntersect1 / rtcOccluded1 (rtcIntersect4 / rtcOccluded4 for a packet batch); same contract as
+/// traceOurs.
 double traceEmbree(RTCScene scene, const std::vector<RTCRay>& rays, bool occlusion, bool packets, int threads,
                    RayResults& out, double* cpu = nullptr);
 #endif

@@ -2,9 +2,9 @@
 // sub-command per experiment, each in its own file cmd_<name>.cpp:
 //
 //   whitted_bench info   --scene NAME                        camera, lights, material as JSON (for the VTK script)
-//   whitted_bench rays   --scene NAME --size WxH             Mrays/s of primary / shadow / shadow4 (packets of 4) /
-//                                                            incoherent rays, ours and Embree's (default and robust
-//                                                            mode); agreement
+//   whitted_bench rays   --scene NAME --size WxH             Mrays/s of primary / primary4 / shadow / shadow4
+//                                                            (packets of 4) / incoherent rays, ours and Embree's
+//                                                            (default and robust mode); agreement
 //   whitted_bench build  --scene NAME                        BVH build time and memory, ours and Embree's
 //                                                            (low / medium / high quality), at equal threads
 //   whitted_bench frame  --scene NAME --sizes WxH,...        whole frames; --threads-list 1,2 for scaling
