@@ -53,8 +53,10 @@ struct IntegratorSettings {
   bool packets = true;
   /// Camera rays traced in blocks find their first hits as one closest-hit packet (Scene::intersectPacket), which
   /// shares each BVH node's load among the block's rays. The image and the ray counts are the same either way.
-  /// Default off: measured slower than single rays on the 1M isosurface (data/benchmark/history.md, ppacket).
-  bool primaryPackets = false;
+  /// Used where the shadow packets are, in scenes without transmissive surfaces: there it measured 1.00-1.09x per
+  /// frame (iso60k, points100k, iso1m, tubes; data/benchmark/history.md), while in the classic scene, whose shadow
+  /// rays go one by one, it measured 0.76-1.00x. Default on; off finds every first hit alone (tests, measurements).
+  bool primaryPackets = true;
 };
 
 /// Ray counts of one frame (summed over threads).
@@ -121,8 +123,8 @@ class Integrator {
   /// screenBackground[i]) and stats[i] gets the same ray counts (its nodesVisited differs). The shadow rays of
   /// the first hits toward each of the first kPacketLights lights are cast as one packet (Scene::occludedPacket),
   /// which loads each BVH node once for the block's rays; everything after the first hit is traced per ray. With
-  /// IntegratorSettings::primaryPackets the first hits are found as one packet (Scene::intersectPacket). With
-  /// IntegratorSettings::packets off, or in a scene with transmissive surfaces, the shadow rays go one by one, and
+  /// IntegratorSettings::primaryPackets the first hits are found as one packet (Scene::intersectPacket). In a scene
+  /// with transmissive surfaces both go one by one; with IntegratorSettings::packets off the shadow rays do, and
   /// with neither kind of packet the same as calling trace() for each ray.
   void traceBlock(const Ray* rays, int n, RayStats* stats, const Color* screenBackground, Sample* out) const;
   static constexpr int kBlock = 4;

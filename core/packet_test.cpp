@@ -228,7 +228,9 @@ TEST(PrimaryPackets, SameFramesAsSingleRays) {
     rs.integrator.shadows = false;
     expectSameFrames(s, cam, rs, name + ", no shadows", &IntegratorSettings::primaryPackets);
   }
-  // The classic scene: glass and mirror spheres (reflections, refractions) over a floor; and its mesh version
+  // The classic scene: glass and mirror spheres (reflections, refractions) over a floor; and its mesh version.
+  // Scenes with transmissive surfaces (these, and the translucent occluders above) find their first hits one by
+  // one (traceBlock): their frames check that gate
   for (int subdivisions : {0, 24}) {
     Scene c;
     CameraSpec cs;

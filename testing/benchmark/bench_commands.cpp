@@ -36,7 +36,7 @@ RenderSettings settingsFrom(const Args& a) {
   rs.integrator.contributionThreshold = float(a.real("threshold", 1.0 / 255.0));
   rs.integrator.shadows = !a.has("no-shadows");
   rs.integrator.packets = !a.has("no-packets");
-  rs.integrator.primaryPackets = a.has("primary-packets");
+  rs.integrator.primaryPackets = !a.has("no-primary-packets");
   rs.errorEstimates = !a.has("no-error-estimates");  // as interactive frames of the VTK pass
   rs.integrator.truncationLookahead = a.integer("lookahead", rs.integrator.truncationLookahead);
   rs.targetError = a.real("target-error", 0.0);

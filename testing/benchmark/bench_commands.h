@@ -36,7 +36,7 @@ bool loadScene(const Args& a, BenchScene& bs);
 std::vector<int> threadList(const Args& a);
 
 /// Render settings from --spp, --adaptive, --depth, --threshold, --no-shadows, --no-packets,
-/// --primary-packets (defaults: the renderer's).
+/// --no-primary-packets (defaults: the renderer's).
 RenderSettings settingsFrom(const Args& a);
 
 /// Hands object `object` of `source` to `scene` again as fresh geometry (a copy, set with setMesh / setSpheres /

@@ -1,7 +1,7 @@
 // whitted_bench frame --scene NAME --sizes WxH,...: whole frames (trace time after the BVH build, median of
 // --reps runs after --warmup), at each thread count of --threads-list; --png FILE keeps the last image.
 // Render settings: --spp, --adaptive, --depth, --threshold, --no-shadows, --no-packets (shadow rays traced one by one),
-// --primary-packets (camera rays' first hits found as closest-hit packets: Scene::intersectPacket),
+// --no-primary-packets (camera rays' first hits found one by one, not as closest-hit packets),
 // --no-error-estimates (as interactive frames), --target-error E, --time-budget S (progressive refinement),
 // --lookahead N (levels of bound rays of the truncation bound: IntegratorSettings::truncationLookahead).
 #include "bench_commands.h"
