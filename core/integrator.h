@@ -39,6 +39,13 @@ struct IntegratorSettings {
   /// charged its weight times the scene-wide bound (no rays, looser). Colours are the same either way. Default 1
   /// (the renderer uses 0 with RenderSettings::errorEstimates off, for interactive frames).
   int truncationLookahead = 1;
+  /// Adaptive lookahead: past truncationLookahead levels, a bound ray's secondary ray is followed one more level
+  /// (up to truncationLookaheadMax levels in all) while what it would otherwise be charged (its weight along the
+  /// path times the kr + kt of its hit times the scene-wide remaining bound) is above this radiance. Each level
+  /// followed only replaces a charge by a smaller one: the bound stays strict and never rises. Colours are the
+  /// same either way. 0 or a truncationLookaheadMax at most truncationLookahead: fixed levels. Default 0.
+  float truncationTolerance = 0.0f;
+  int truncationLookaheadMax = 0;  ///< Most levels of bound rays per cut ray with truncationTolerance. Default 0.
   /// Pixel footprint for edges of a given width in pixels (Material::edgeWidth): one pixel spans
   /// pixelSize + pixelAngle x L world units across a ray at path length L from the camera (summed over the
   /// path's segments, so exact through plane mirrors, approximate after curved mirrors and refraction).
@@ -167,8 +174,10 @@ class Integrator {
   /// IntegratorSettings::truncationLookahead): per channel, at least what it would return in the reference.
   /// Writes the hit distance to tHit (left on a miss).
   template <bool Reflect, bool Refract>
-  Color cutRayBound(const Ray& ray, int depth, int levels, bool straight, double pathLength, RayStats& st,
-                    PathState& ps, double* tHit) const;
+  /// weight: the cut ray's weight along its path (what its charge is multiplied by), for the adaptive lookahead;
+  /// extra: levels it may still add (truncationTolerance).
+  Color cutRayBound(const Ray& ray, int depth, int levels, int extra, const Color& weight, bool straight,
+                    double pathLength, RayStats& st, PathState& ps, double* tHit) const;
   /// Bound on the radiance (largest channel) a secondary ray at depth childDepth could return in the reference.
   float remainingBound(int childDepth) const {
     if (seriesConverges_) return remaining_[0];
@@ -199,6 +208,7 @@ class Integrator {
   bool seriesConverges_ = true;
   int referenceDepth_ = 0;
   bool cutAtDepthZero_ = false;
+  int extraLevels_ = 0;  ///< Adaptive lookahead: levels a bound ray may add past truncationLookahead.
 };
 
 }  // namespace whitted
