@@ -35,17 +35,19 @@ struct IntegratorSettings {
   /// threshold is traced to its first hit only (a bound ray: no shadow rays) and charged what it returns on a miss,
   /// or that hit's unshadowed local term plus, at the last level, its kr + kt times the scene-wide remaining bound,
   /// else what the hit's own secondary rays return, bounded the same way one level further (up to 2^levels - 1
-  /// bound rays per cut ray); a shadow ray cut by the threshold is traced again without it. 0: every cut ray is
-  /// charged its weight times the scene-wide bound (no rays, looser). Colours are the same either way. Default 1
-  /// (the renderer uses 0 with RenderSettings::errorEstimates off, for interactive frames).
+  /// bound rays per cut ray; more levels where that charge is large: truncationTolerance); a shadow ray cut by the
+  /// threshold is traced again without it. 0: every cut ray is charged its weight times the scene-wide bound (no
+  /// rays, looser). Colours are the same either way. Default 1 (the renderer uses 0 with
+  /// RenderSettings::errorEstimates off, for interactive frames).
   int truncationLookahead = 1;
   /// Adaptive lookahead: past truncationLookahead levels, a bound ray's secondary ray is followed one more level
   /// (up to truncationLookaheadMax levels in all) while what it would otherwise be charged (its weight along the
   /// path times the kr + kt of its hit times the scene-wide remaining bound) is above this radiance. Each level
   /// followed only replaces a charge by a smaller one: the bound stays strict and never rises. Colours are the
-  /// same either way. 0 or a truncationLookaheadMax at most truncationLookahead: fixed levels. Default 0.
-  float truncationTolerance = 0.0f;
-  int truncationLookaheadMax = 0;  ///< Most levels of bound rays per cut ray with truncationTolerance. Default 0.
+  /// same either way. 0, a truncationLookaheadMax at most truncationLookahead, or truncationLookahead 0: fixed
+  /// levels. Default 1/255 (one 8-bit step).
+  float truncationTolerance = 1.0f / 255.0f;
+  int truncationLookaheadMax = 16;  ///< Most levels of bound rays per cut ray with truncationTolerance. Default 16.
   /// Pixel footprint for edges of a given width in pixels (Material::edgeWidth): one pixel spans
   /// pixelSize + pixelAngle x L world units across a ray at path length L from the camera (summed over the
   /// path's segments, so exact through plane mirrors, approximate after curved mirrors and refraction).
