@@ -144,15 +144,17 @@ TEST(ErrorEstimate, TightTruncationBoundIsTighterThanTheSceneWideOne) {
 // scene-wide figure. Facing mirrors (kr 0.9) at depth 8: every level lands on another mirror, and a fixed lookahead
 // of 1 or 2 gives 5.6x / 5.4x the measured RMS; classic at depth 5 threshold 0.05: cut rays land on the glass ball
 // (kr + kt = 1: the remaining bound grows to the reference depth), 13.7x at 1. Measured at 64x48 with the adaptive
-// lookahead (1/255, up to 16 levels): 1.2x and 1.1x. Asserted: within the 2x of the measured RMS and below
-// 0.4x the fixed lookahead's bound; the fixed lookahead (tolerance 0) fails both.
+// lookahead (1/255, up to 16 levels): 1.2x and 1.1x. Light in glass at depth 1: cut rays land on the floor, lit
+// through the glass (transmittance 0.12), 6.4x at 1; the adaptive lookahead's exact shadow rays at hits with a large
+// charge give 1.5x (2.4x with the unshadowed local term). Asserted: within the 2x of the measured RMS and
+// below 0.4x the fixed lookahead's bound; the fixed lookahead (tolerance 0) fails both.
 TEST(ErrorEstimate, AdaptiveLookaheadBoundWithinTwiceTheMeasured) {
   struct Case {
     const NamedScene* scene;
     int depth;
     float threshold;
   };
-  const Case cases[] = {{&kScenes[0], 8, 0.0f}, {&kScenes[3], 5, 0.05f}};
+  const Case cases[] = {{&kScenes[0], 8, 0.0f}, {&kScenes[3], 5, 0.05f}, {&kScenes[2], 1, 0.0f}};
   const int w = 64, h = 48;
   for (const Case& c : cases) {
     Scene s;

@@ -129,6 +129,15 @@ struct Integrator::AnsweredShadows {
   }
 };
 
+/// Shadow rays of a bound ray's hit, traced without the threshold: the exact transmittance the reference sees.
+struct Integrator::ExactShadows {
+  static constexpr bool kCollect = false;
+  const Scene& scene;
+  Color operator()(int /*light*/, const Ray& sr, float /*cutoff*/, RayStats& st, bool& cut) const {
+    return scene.transmittance(sr, 0.0f, &st.nodesVisited, &cut);
+  }
+};
+
 void Integrator::startPath(const Ray& ray, const Color& screenBackground, PathState& ps) const {
   ps.screenBackground = screenBackground;
   // Edge footprints grow with the distance from the eye; camera rays may start on the near plane
@@ -526,6 +535,15 @@ Color Integrator::cutRayBound(const Ray& ray, int depth, int levels, int extra, 
   ps.pathLength = pathBefore;
   TraceShadows none{scene_};  // not called: no shadow rays
   Color bound = localTerm<false>(f, Color(0.0f), st, ps, none);
+  if (shadows_ && extraLevels_ > 0 && maxComponent(weight * bound) > s_.truncationTolerance) {
+    // A large charge (adaptive lookahead): the hit's shadow rays, traced without the threshold, give the local term
+    // the reference computes there, never above the unshadowed one. They are bound rays, not shadow rays.
+    RayStats sst;
+    ExactShadows exact{scene_};
+    bound = localTerm<true>(f, Color(0.0f), sst, ps, exact);
+    st.boundRays += sst.shadow;
+    st.nodesVisited += sst.nodesVisited;
+  }
   const Material& m = f.material();
   if (levels <= 1) {
     // The secondary rays return at most the remaining bound each; total internal reflection and Fresnel move

@@ -43,8 +43,9 @@ struct IntegratorSettings {
   /// Adaptive lookahead: past truncationLookahead levels, a bound ray's secondary ray is followed one more level
   /// (up to truncationLookaheadMax levels in all) while what it would otherwise be charged (its weight along the
   /// path times the kr + kt of its hit times the scene-wide remaining bound) is above this radiance. Each level
-  /// followed only replaces a charge by a smaller one: the bound stays strict and never rises. Colours are the
-  /// same either way. 0, a truncationLookaheadMax at most truncationLookahead, or truncationLookahead 0: fixed
+  /// followed only replaces a charge by a smaller one: the bound stays strict and never rises. A bound ray's hit
+  /// whose unshadowed local term would be charged above this radiance traces its shadow rays (without the
+  /// threshold: the reference's exact local term). Colours are the same either way. 0, a truncationLookaheadMax at most truncationLookahead, or truncationLookahead 0: fixed
   /// levels. Default 1/255 (one 8-bit step).
   float truncationTolerance = 1.0f / 255.0f;
   int truncationLookaheadMax = 16;  ///< Most levels of bound rays per cut ray with truncationTolerance. Default 16.
@@ -144,6 +145,7 @@ class Integrator {
   struct TraceShadows;
   struct CollectShadows;
   struct AnsweredShadows;
+  struct ExactShadows;
   template <bool Reflect, bool Refract, bool Shadows>
   Color radiance(const Ray& ray, int depth, Color weight, bool straight, RayStats& st, PathState& ps, double* tHit,
                  Vec3* firstHit, const FirstHit* pre) const;
