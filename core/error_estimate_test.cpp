@@ -93,11 +93,12 @@ TEST(ErrorEstimate, TruncationBoundNeverUnderMeasuredOnStiffScenes) {
         const double measuredRms = std::sqrt(measured2 / double(fb[1].color.size()));
         if (measuredRms > 1e-4) {
           ++checked;
-          std::printf("%-15s depth %d thr %.4f: measured RMS %.4f, bound RMS %.4f (x%.1f; lookahead 0 x%.1f, 2 x%.1f, "
-                      "adaptive x%.1f), bound p95 %.4f, max %.4f\n",
-                      ns.name, depth, thr, measuredRms, fs[1].truncation.rms, fs[1].truncation.rms / measuredRms,
-                      fs[0].truncation.rms / measuredRms, fs[2].truncation.rms / measuredRms,
-                      fs[3].truncation.rms / measuredRms, fs[1].truncation.p95, fs[1].truncation.max);
+          std::printf(
+              "%-15s depth %d thr %.4f: measured RMS %.4f, bound RMS %.4f (x%.1f; lookahead 0 x%.1f, 2 x%.1f, "
+              "adaptive x%.1f), bound p95 %.4f, max %.4f\n",
+              ns.name, depth, thr, measuredRms, fs[1].truncation.rms, fs[1].truncation.rms / measuredRms,
+              fs[0].truncation.rms / measuredRms, fs[2].truncation.rms / measuredRms,
+              fs[3].truncation.rms / measuredRms, fs[1].truncation.p95, fs[1].truncation.max);
         }
       }
     EXPECT_GT(largest, 0.05f) << ns.name << ": the settings must lose something for the check to mean anything";
@@ -185,11 +186,12 @@ TEST(ErrorEstimate, AdaptiveLookaheadBoundWithinTwiceTheMeasured) {
     }
     const double measuredRms = std::sqrt(measured2 / double(refFb.color.size()));
     ASSERT_GT(measuredRms, 1e-3) << c.scene->name;
-    std::printf("%s depth %d thr %.3f: measured RMS %.5f, bound RMS fixed lookahead x%.2f, adaptive x%.2f (%llu / %llu "
-                "bound rays)\n",
-                c.scene->name, c.depth, c.threshold, measuredRms, fixed.truncation.rms / measuredRms,
-                adaptive.truncation.rms / measuredRms, (unsigned long long)fixed.rays.boundRays,
-                (unsigned long long)adaptive.rays.boundRays);
+    std::printf(
+        "%s depth %d thr %.3f: measured RMS %.5f, bound RMS fixed lookahead x%.2f, adaptive x%.2f (%llu / %llu "
+        "bound rays)\n",
+        c.scene->name, c.depth, c.threshold, measuredRms, fixed.truncation.rms / measuredRms,
+        adaptive.truncation.rms / measuredRms, (unsigned long long)fixed.rays.boundRays,
+        (unsigned long long)adaptive.rays.boundRays);
     EXPECT_EQ(under, 0) << c.scene->name;
     EXPECT_LT(adaptive.truncation.rms, 2.0 * measuredRms) << c.scene->name;
     EXPECT_LT(adaptive.truncation.rms, 0.4 * fixed.truncation.rms) << c.scene->name;

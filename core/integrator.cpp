@@ -561,7 +561,7 @@ Color Integrator::cutRayBound(const Ray& ray, int depth, int levels, int extra, 
   if (sec.haveReflected) {
     double t = kInfinity;
     bound += sec.kr * cutRayBound<Reflect, Refract>(sec.reflected, depth + 1, levels - 1, extra, weight * sec.kr, false,
-                                                     f.pathHere, st, ps, &t);
+                                                    f.pathHere, st, ps, &t);
   }
   if (sec.haveRefracted) {
     double t = kInfinity;

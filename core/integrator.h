@@ -45,8 +45,8 @@ struct IntegratorSettings {
   /// path times the kr + kt of its hit times the scene-wide remaining bound) is above this radiance. Each level
   /// followed only replaces a charge by a smaller one: the bound stays strict and never rises. A bound ray's hit
   /// whose unshadowed local term would be charged above this radiance traces its shadow rays (without the
-  /// threshold: the reference's exact local term). Colours are the same either way. 0, a truncationLookaheadMax at most truncationLookahead, or truncationLookahead 0: fixed
-  /// levels. Default 1/255 (one 8-bit step).
+  /// threshold: the reference's exact local term). Colours are the same either way. 0, a truncationLookaheadMax
+  /// at most truncationLookahead, or truncationLookahead 0: fixed levels, unshadowed. Default 1/255 (8-bit step).
   float truncationTolerance = 1.0f / 255.0f;
   int truncationLookaheadMax = 16;  ///< Most levels of bound rays per cut ray with truncationTolerance. Default 16.
   /// Pixel footprint for edges of a given width in pixels (Material::edgeWidth): one pixel spans
