@@ -32,6 +32,9 @@ Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings, c
     if (maxComponent(pl.radiance) > 0.0f) lights_.push_back(pl);
   }
   s_.maxDepth = std::max(0, s_.maxDepth);
+  extraLevels_ = s_.truncationLookahead > 0 && s_.truncationTolerance > 0.0f
+                     ? std::max(0, s_.truncationLookaheadMax - s_.truncationLookahead)
+                     : 0;
   if (!(s_.contributionThreshold >= 0.0f)) s_.contributionThreshold = 0.0f;
   const Features& f = scene.features();
   // Leave out what the scene cannot use: each flag removes a whole mechanism from the compiled kernel
@@ -123,6 +126,15 @@ struct Integrator::AnsweredShadows {
       return fh.t(light);
     }
     return scene.transmittance(sr, cutoff, &st.nodesVisited, &cut);
+  }
+};
+
+/// Shadow rays of a bound ray's hit, traced without the threshold: the exact transmittance the reference sees.
+struct Integrator::ExactShadows {
+  static constexpr bool kCollect = false;
+  const Scene& scene;
+  Color operator()(int /*light*/, const Ray& sr, float /*cutoff*/, RayStats& st, bool& cut) const {
+    return scene.transmittance(sr, 0.0f, &st.nodesVisited, &cut);
   }
 };
 
@@ -515,8 +527,8 @@ static void absorb(Color& c, const Material& m, double t) {
 }
 
 template <bool Reflect, bool Refract>
-Color Integrator::cutRayBound(const Ray& ray, int depth, int levels, bool straight, double pathLength, RayStats& st,
-                              PathState& ps, double* tHit) const {
+Color Integrator::cutRayBound(const Ray& ray, int depth, int levels, int extra, const Color& weight, bool straight,
+                              double pathLength, RayStats& st, PathState& ps, double* tHit) const {
   // A ray the reference itself would not trace returns nothing (see remainingBound)
   if (!seriesConverges_ && depth > referenceDepth_) return Color(0.0f);
   ++st.boundRays;
@@ -538,24 +550,38 @@ Color Integrator::cutRayBound(const Ray& ray, int depth, int levels, bool straig
   ps.pathLength = pathBefore;
   TraceShadows none{scene_};  // not called: no shadow rays
   Color bound = localTerm<false>(f, Color(0.0f), st, ps, none);
+  if (shadows_ && extraLevels_ > 0 && maxComponent(weight * bound) > s_.truncationTolerance) {
+    // A large charge (adaptive lookahead): the hit's shadow rays, traced without the threshold, give the local term
+    // the reference computes there, never above the unshadowed one. They are bound rays, not shadow rays.
+    RayStats sst;
+    ExactShadows exact{scene_};
+    bound = localTerm<true>(f, Color(0.0f), sst, ps, exact);
+    st.boundRays += sst.shadow;
+    st.nodesVisited += sst.nodesVisited;
+  }
   const Material& m = f.material();
   if (levels <= 1) {
     // The secondary rays return at most the remaining bound each; total internal reflection and Fresnel move
-    // weight between kr and kt per channel, never add any
-    return bound + (m.reflectance + m.transmittance) * remainingBound(depth + 1);
+    // weight between kr and kt per channel, never add any. The adaptive lookahead follows them instead while that
+    // charge is large (the next level's charge is never above it: see buildRemainingBounds)
+    const Color k = m.reflectance + m.transmittance;
+    const float remaining = remainingBound(depth + 1);
+    if (extra <= 0 || !(maxComponent(weight * k) * remaining > s_.truncationTolerance)) return bound + k * remaining;
+    levels = 2;
+    --extra;
   }
   // One more level of bound rays: the hit's secondary rays as radiance() would spawn them, each bounded in turn
   SecondaryRays sec;
   secondaryRays<Reflect, Refract>(f, sec);
   if (sec.haveReflected) {
     double t = kInfinity;
-    bound += sec.kr * cutRayBound<Reflect, Refract>(sec.reflected, depth + 1, levels - 1, false, f.pathHere, st, ps,
-                                                     &t);
+    bound += sec.kr * cutRayBound<Reflect, Refract>(sec.reflected, depth + 1, levels - 1, extra, weight * sec.kr, false,
+                                                    f.pathHere, st, ps, &t);
   }
   if (sec.haveRefracted) {
     double t = kInfinity;
-    Color c = cutRayBound<Reflect, Refract>(sec.refracted, depth + 1, levels - 1, straight && sec.refractedStraight,
-                                            f.pathHere, st, ps, &t);
+    Color c = cutRayBound<Reflect, Refract>(sec.refracted, depth + 1, levels - 1, extra, weight * sec.kt,
+                                            straight && sec.refractedStraight, f.pathHere, st, ps, &t);
     if (s_.beerLambert && !f.backFace && std::isfinite(t)) absorb(c, m, t);
     bound += sec.kt * c;
   }
@@ -618,8 +644,8 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
           return;
         }
         double t = kInfinity;
-        Color bound =
-            cutRayBound<Reflect, Refract>(r, depth + 1, s_.truncationLookahead, rayStraight, pathHere, st, ps, &t);
+        Color bound = cutRayBound<Reflect, Refract>(r, depth + 1, s_.truncationLookahead, extraLevels_, w, rayStraight,
+                                                    pathHere, st, ps, &t);
         if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) absorb(bound, m, t);
         ps.truncation += maxComponent(w * bound);
         return;

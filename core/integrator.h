@@ -35,10 +35,20 @@ struct IntegratorSettings {
   /// threshold is traced to its first hit only (a bound ray: no shadow rays) and charged what it returns on a miss,
   /// or that hit's unshadowed local term plus, at the last level, its kr + kt times the scene-wide remaining bound,
   /// else what the hit's own secondary rays return, bounded the same way one level further (up to 2^levels - 1
-  /// bound rays per cut ray); a shadow ray cut by the threshold is traced again without it. 0: every cut ray is
-  /// charged its weight times the scene-wide bound (no rays, looser). Colours are the same either way. Default 1
-  /// (the renderer uses 0 with RenderSettings::errorEstimates off, for interactive frames).
+  /// bound rays per cut ray; more levels where that charge is large: truncationTolerance); a shadow ray cut by the
+  /// threshold is traced again without it. 0: every cut ray is charged its weight times the scene-wide bound (no
+  /// rays, looser). Colours are the same either way. Default 1 (the renderer uses 0 with
+  /// RenderSettings::errorEstimates off, for interactive frames).
   int truncationLookahead = 1;
+  /// Adaptive lookahead: past truncationLookahead levels, a bound ray's secondary ray is followed one more level
+  /// (up to truncationLookaheadMax levels in all) while what it would otherwise be charged (its weight along the
+  /// path times the kr + kt of its hit times the scene-wide remaining bound) is above this radiance. Each level
+  /// followed only replaces a charge by a smaller one: the bound stays strict and never rises. A bound ray's hit
+  /// whose unshadowed local term would be charged above this radiance traces its shadow rays (without the
+  /// threshold: the reference's exact local term). Colours are the same either way. 0, a truncationLookaheadMax
+  /// at most truncationLookahead, or truncationLookahead 0: fixed levels, unshadowed. Default 1/255 (8-bit step).
+  float truncationTolerance = 1.0f / 255.0f;
+  int truncationLookaheadMax = 16;  ///< Most levels of bound rays per cut ray with truncationTolerance. Default 16.
   /// Pixel footprint for edges of a given width in pixels (Material::edgeWidth): one pixel spans
   /// pixelSize + pixelAngle x L world units across a ray at path length L from the camera (summed over the
   /// path's segments, so exact through plane mirrors, approximate after curved mirrors and refraction).
@@ -142,6 +152,7 @@ class Integrator {
   struct TraceShadows;
   struct CollectShadows;
   struct AnsweredShadows;
+  struct ExactShadows;
   template <bool Reflect, bool Refract, bool Shadows>
   Color radiance(const Ray& ray, int depth, Color weight, bool straight, RayStats& st, PathState& ps, double* tHit,
                  Vec3* firstHit, const FirstHit* pre) const;
@@ -174,8 +185,10 @@ class Integrator {
   /// IntegratorSettings::truncationLookahead): per channel, at least what it would return in the reference.
   /// Writes the hit distance to tHit (left on a miss).
   template <bool Reflect, bool Refract>
-  Color cutRayBound(const Ray& ray, int depth, int levels, bool straight, double pathLength, RayStats& st,
-                    PathState& ps, double* tHit) const;
+  /// weight: the cut ray's weight along its path (what its charge is multiplied by), for the adaptive lookahead;
+  /// extra: levels it may still add (truncationTolerance).
+  Color cutRayBound(const Ray& ray, int depth, int levels, int extra, const Color& weight, bool straight,
+                    double pathLength, RayStats& st, PathState& ps, double* tHit) const;
   /// Bound on the radiance (largest channel) a secondary ray at depth childDepth could return in the reference.
   float remainingBound(int childDepth) const {
     if (seriesConverges_) return remaining_[0];
@@ -206,6 +219,7 @@ class Integrator {
   bool seriesConverges_ = true;
   int referenceDepth_ = 0;
   bool cutAtDepthZero_ = false;
+  int extraLevels_ = 0;  ///< Adaptive lookahead: levels a bound ray may add past truncationLookahead.
 };
 
 }  // namespace whitted

@@ -39,6 +39,8 @@ RenderSettings settingsFrom(const Args& a) {
   rs.integrator.primaryPackets = !a.has("no-primary-packets");
   rs.errorEstimates = !a.has("no-error-estimates");  // as interactive frames of the VTK pass
   rs.integrator.truncationLookahead = a.integer("lookahead", rs.integrator.truncationLookahead);
+  rs.integrator.truncationTolerance = float(a.real("tolerance", rs.integrator.truncationTolerance));
+  rs.integrator.truncationLookaheadMax = a.integer("lookahead-max", rs.integrator.truncationLookaheadMax);
   rs.targetError = a.real("target-error", 0.0);
   rs.timeBudget = a.real("time-budget", 0.0);
   return rs;
