@@ -528,7 +528,7 @@ static void absorb(Color& c, const Material& m, double t) {
 
 template <bool Reflect, bool Refract>
 Color Integrator::cutRayBound(const Ray& ray, int depth, int levels, int extra, const Color& weight, bool straight,
-                              double pathLength, RayStats& st, PathState& ps, double* tHit) const {
+                              double pathLength, RayStats& st, PathState& ps, double* tHit, float tol) const {
   // A ray the reference itself would not trace returns nothing (see remainingBound)
   if (!seriesConverges_ && depth > referenceDepth_) return Color(0.0f);
   ++st.boundRays;
@@ -550,7 +550,15 @@ Color Integrator::cutRayBound(const Ray& ray, int depth, int levels, int extra, 
   ps.pathLength = pathBefore;
   TraceShadows none{scene_};  // not called: no shadow rays
   Color bound = localTerm<false>(f, Color(0.0f), st, ps, none);
-  if (shadows_ && extraLevels_ > 0 && maxComponent(weight * bound) > s_.truncationTolerance) {
+  const Material& m = f.material();
+  const Color k = m.reflectance + m.transmittance;
+  if (tol < 0.0f) {  // kCutRay
+    // The cut ray's own tolerance: a fraction of the charge it would leave here, at most the absolute one
+    const float charge = maxComponent(weight * (bound + k * remainingBound(depth + 1)));
+    tol = std::min(s_.truncationTolerance, s_.truncationRelativeTolerance * charge);
+    if (!(tol > 0.0f)) tol = s_.truncationTolerance;  // relative tolerance 0 (or nothing to charge)
+  }
+  if (shadows_ && extraLevels_ > 0 && maxComponent(weight * bound) > tol) {
     // A large charge (adaptive lookahead): the hit's shadow rays, traced without the threshold, give the local term
     // the reference computes there, never above the unshadowed one. They are bound rays, not shadow rays.
     RayStats sst;
@@ -559,14 +567,14 @@ Color Integrator::cutRayBound(const Ray& ray, int depth, int levels, int extra, 
     st.boundRays += sst.shadow;
     st.nodesVisited += sst.nodesVisited;
   }
-  const Material& m = f.material();
   if (levels <= 1) {
     // The secondary rays return at most the remaining bound each; total internal reflection and Fresnel move
     // weight between kr and kt per channel, never add any. The adaptive lookahead follows them instead while that
-    // charge is large (the next level's charge is never above it: see buildRemainingBounds)
-    const Color k = m.reflectance + m.transmittance;
+    // charge is large (the next level's charge is never above it: see buildRemainingBounds); below the absolute
+    // tolerance only where a level removes at least half of the charge (truncationRelativeTolerance)
     const float remaining = remainingBound(depth + 1);
-    if (extra <= 0 || !(maxComponent(weight * k) * remaining > s_.truncationTolerance)) return bound + k * remaining;
+    const float levelTol = maxComponent(k) <= 0.5f ? tol : std::max(tol, s_.truncationTolerance);
+    if (extra <= 0 || !(maxComponent(weight * k) * remaining > levelTol)) return bound + k * remaining;
     levels = 2;
     --extra;
   }
@@ -576,12 +584,12 @@ Color Integrator::cutRayBound(const Ray& ray, int depth, int levels, int extra, 
   if (sec.haveReflected) {
     double t = kInfinity;
     bound += sec.kr * cutRayBound<Reflect, Refract>(sec.reflected, depth + 1, levels - 1, extra, weight * sec.kr, false,
-                                                    f.pathHere, st, ps, &t);
+                                                    f.pathHere, st, ps, &t, tol);
   }
   if (sec.haveRefracted) {
     double t = kInfinity;
     Color c = cutRayBound<Reflect, Refract>(sec.refracted, depth + 1, levels - 1, extra, weight * sec.kt,
-                                            straight && sec.refractedStraight, f.pathHere, st, ps, &t);
+                                            straight && sec.refractedStraight, f.pathHere, st, ps, &t, tol);
     if (s_.beerLambert && !f.backFace && std::isfinite(t)) absorb(c, m, t);
     bound += sec.kt * c;
   }
@@ -645,7 +653,7 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
         }
         double t = kInfinity;
         Color bound = cutRayBound<Reflect, Refract>(r, depth + 1, s_.truncationLookahead, extraLevels_, w, rayStraight,
-                                                    pathHere, st, ps, &t);
+                                                    pathHere, st, ps, &t, kCutRay);
         if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) absorb(bound, m, t);
         ps.truncation += maxComponent(w * bound);
         return;

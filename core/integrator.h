@@ -49,6 +49,14 @@ struct IntegratorSettings {
   /// at most truncationLookahead, or truncationLookahead 0: fixed levels, unshadowed. Default 1/255 (8-bit step).
   float truncationTolerance = 1.0f / 255.0f;
   int truncationLookaheadMax = 16;  ///< Most levels of bound rays per cut ray with truncationTolerance. Default 16.
+  /// Adaptive lookahead for small charges: a cut ray's tolerance is min(truncationTolerance, this x the charge its
+  /// first bound ray would leave: weight x (unshadowed local term + kr + kt times the remaining bound)). Where a
+  /// frame's truncation is made of many charges under truncationTolerance (deep depths, light behind glass), the
+  /// absolute tolerance alone leaves each at its scene-wide charge, which can be several times what it bounds. The
+  /// hit's shadow rays follow this tolerance everywhere; further levels only at surfaces with kr + kt <= 1/2,
+  /// where a level removes at least half of what it replaces (clear glass and strong mirrors would need many
+  /// levels per factor: there the absolute tolerance). 0: the absolute tolerance only. Default 1/8.
+  float truncationRelativeTolerance = 1.0f / 8.0f;
   /// Pixel footprint for edges of a given width in pixels (Material::edgeWidth): one pixel spans
   /// pixelSize + pixelAngle x L world units across a ray at path length L from the camera (summed over the
   /// path's segments, so exact through plane mirrors, approximate after curved mirrors and refraction).
@@ -186,9 +194,11 @@ class Integrator {
   /// Writes the hit distance to tHit (left on a miss).
   template <bool Reflect, bool Refract>
   /// weight: the cut ray's weight along its path (what its charge is multiplied by), for the adaptive lookahead;
-  /// extra: levels it may still add (truncationTolerance).
+  /// extra: levels it may still add; tolerance: its adaptive tolerance (truncationTolerance,
+  /// truncationRelativeTolerance), or kCutRay for the cut ray itself (derived from its first charge).
   Color cutRayBound(const Ray& ray, int depth, int levels, int extra, const Color& weight, bool straight,
-                    double pathLength, RayStats& st, PathState& ps, double* tHit) const;
+                    double pathLength, RayStats& st, PathState& ps, double* tHit, float tolerance) const;
+  static constexpr float kCutRay = -1.0f;
   /// Bound on the radiance (largest channel) a secondary ray at depth childDepth could return in the reference.
   float remainingBound(int childDepth) const {
     if (seriesConverges_) return remaining_[0];

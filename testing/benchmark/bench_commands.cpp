@@ -41,6 +41,8 @@ RenderSettings settingsFrom(const Args& a) {
   rs.integrator.truncationLookahead = a.integer("lookahead", rs.integrator.truncationLookahead);
   rs.integrator.truncationTolerance = float(a.real("tolerance", rs.integrator.truncationTolerance));
   rs.integrator.truncationLookaheadMax = a.integer("lookahead-max", rs.integrator.truncationLookaheadMax);
+  rs.integrator.truncationRelativeTolerance =
+      float(a.real("relative-tolerance", rs.integrator.truncationRelativeTolerance));
   rs.targetError = a.real("target-error", 0.0);
   rs.timeBudget = a.real("time-budget", 0.0);
   return rs;

@@ -152,10 +152,12 @@ int cmdError(const Args& a) {
   std::vector<int> depths = {1, 2, 3, 4, 5, 6, 7, 8};
   std::vector<float> thresholds = {0.0f, 1.0f / 255, 4.0f / 255, 16.0f / 255, 64.0f / 255};
   // The truncation bound's lookahead (IntegratorSettings::truncationLookahead, truncationTolerance,
-  // truncationLookaheadMax) in the sweep, to compare its calibration
+  // truncationLookaheadMax, truncationRelativeTolerance) in the sweep, to compare its calibration
   const int lookahead = a.integer("lookahead", RenderSettings().integrator.truncationLookahead);
   const float tolerance = float(a.real("tolerance", RenderSettings().integrator.truncationTolerance));
   const int lookaheadMax = a.integer("lookahead-max", RenderSettings().integrator.truncationLookaheadMax);
+  const float relTolerance =
+      float(a.real("relative-tolerance", RenderSettings().integrator.truncationRelativeTolerance));
   if (a.has("depth")) depths = {a.integer("depth", 5)};  // one depth only
   if (quick) {
     samplings = {{1, false}, {4, true}};
@@ -209,6 +211,7 @@ int cmdError(const Args& a) {
         rs.integrator.truncationLookahead = lookahead;
         rs.integrator.truncationTolerance = tolerance;
         rs.integrator.truncationLookaheadMax = lookaheadMax;
+        rs.integrator.truncationRelativeTolerance = relTolerance;
         bool isDefault = s.spp == 1 && !s.adaptive && depth == 5 && std::abs(thr - 1.0f / 255) < 1e-6f;
         FrameBuffer fb;
         FrameStats fs;
