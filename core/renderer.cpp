@@ -10,8 +10,8 @@
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <utility>
 #include <thread>
+#include <utility>
 
 namespace whitted {
 
@@ -122,7 +122,9 @@ class FrameJob {
     }
     // The neighbour part of the sampling estimate, from the final colours
     if (s_.errorEstimates) {
-      if (!aborted_) runPass(threads, [&](int tile) { estimateFromNeighbours(tile); }, false, false);
+      if (!aborted_)
+        runPass(
+            threads, [&](int tile) { estimateFromNeighbours(tile); }, false, false);
       summarizeErrors(fs);
       if (progressive_) {
         if (resume) {
@@ -464,10 +466,12 @@ class FrameJob {
       auto canSample = [&](std::size_t i) { return acc_[i].n < maxSamples && fb_.sampling[i] > 0.0f; };
       auto canLoosen = [&](std::size_t i) { return acc_[i].level < maxLevel && fb_.truncation[i] > 0.0f; };
       auto estimate = [&](std::size_t i) { return fb_.truncation[i] + fb_.sampling[i]; };
-      // What refining a pixel gains per ray it costs, for each way to refine it: the drop of its squared estimate
-      // (truncation bound + sampling estimate, the share of the image's squared error it can remove) over the
-      // rays it will take (its own rays per sample so far, for a looser level times the growth measured on the
-      // pixels loosened before). Picks the better way per pixel.
+      // What refining a pixel gains per ray it costs, for each way to refine it: the drop of its expected squared
+      // error (the share of the image's squared error it can remove) over the rays it will take (its own rays per
+      // sample so far, for a looser level times the growth measured on the pixels loosened before). Picks the
+      // better way per pixel. The truncation part is systematic and the sampling part random (the estimate is
+      // kSamplingStandardErrors standard errors), so their squares add: samples remove only the sampling part's
+      // variance, a looser level only the truncation part.
       std::vector<float> loosenGrowth(std::size_t(maxLevel) + 2), share(std::size_t(maxLevel) + 2), gridGrowth(2);
       for (int l = -1; l <= maxLevel; ++l) {
         loosenGrowth[std::size_t(l + 1)] = measures_.loosenGrowth(l);
@@ -481,7 +485,8 @@ class FrameJob {
       auto choose = [&](std::size_t i) {
         const PixelSums& ps = acc_[i];
         // The truncation bound scaled by the share of it that loosening changed so far at this level
-        const float t = fb_.truncation[i] * share[std::size_t(ps.level + 1)], smp = fb_.sampling[i], e = t + smp;
+        const float t = fb_.truncation[i] * share[std::size_t(ps.level + 1)], smp = fb_.sampling[i];
+        const float variance = (smp / kSamplingStandardErrors) * (smp / kSamplingStandardErrors);
         const float raysPerSample = std::max(1.0f, float(ps.rays)) / float(ps.n);
         Choice c;
         if (canSample(i)) {
@@ -490,21 +495,20 @@ class FrameJob {
             // Centre sample -> jittered 2x2 grid (coarse when its sampling estimate is well above its bound)
             const bool coarse = ps.level == 0 && coarse_ && t * kCoarseMargin < smp;
             c.action = coarse ? kSampleCoarse : kSample;
-            gain = e * e - (t + 0.5f * smp) * (t + 0.5f * smp);
+            gain = 0.75f * variance;  // 4 samples: a quarter of the variance
             c.rays = float(kFirstStrata) * raysPerSample * gridGrowth[coarse ? 1 : 0];
           } else {
             const int add = std::min(ps.n, maxSamples - ps.n);
-            const float k = std::sqrt(float(ps.n) / float(ps.n + add));
-            gain = e * e - (t + k * smp) * (t + k * smp);
+            gain = variance * float(add) / float(ps.n + add);  // n / (n + add) of the variance left
             c.action = kSample;
             c.rays = float(add) * raysPerSample;
           }
           c.gainPerRay = gain / c.rays;
         }
         if (canLoosen(i)) {
-          const float left = t / 16.0f + smp;
+          // A looser level (depth x2, threshold / 16) is taken to leave a 16th of the truncation part
           const float rays = float(ps.n) * raysPerSample * loosenGrowth[std::size_t(ps.level + 1)];
-          const float gain = (e * e - left * left) / rays;
+          const float gain = t * t * (1.0f - 1.0f / 256.0f) / rays;
           if (gain > c.gainPerRay) c = Choice{gain, rays, kLoosen};
         }
         return c;
@@ -589,7 +593,8 @@ class FrameJob {
     if (std::none_of(marks_.begin(), marks_.end(), [](uint8_t m) { return m != kKeep; })) return false;
     if (keep) keep->pending = std::move(marks_);
     if (!aborted_) {
-      runPass(threads, [&](int tile) { estimateFromNeighbours(tile); }, false, false);
+      runPass(
+          threads, [&](int tile) { estimateFromNeighbours(tile); }, false, false);
       summarizeErrors(fs);
     }
     return true;
@@ -599,7 +604,8 @@ class FrameJob {
   void finishRound(int threads, FrameStats& fs, int& rounds, double seconds) {
     ++fs.refinementRounds;
     ++rounds;
-    runPass(threads, [&](int tile) { estimateFromNeighbours(tile); }, false, false);
+    runPass(
+        threads, [&](int tile) { estimateFromNeighbours(tile); }, false, false);
     summarizeErrors(fs);
     fs.progress.emplace_back(seconds, fs.total.rms);
   }
@@ -699,7 +705,8 @@ class FrameJob {
   // already at the cap).
   std::unique_ptr<Integrator> makeCoarse() const {
     IntegratorSettings is = s_.integrator;
-    const float t = std::max(is.contributionThreshold, std::min(kCoarseThreshold, is.contributionThreshold * kCoarseFactor));
+    const float t =
+        std::max(is.contributionThreshold, std::min(kCoarseThreshold, is.contributionThreshold * kCoarseFactor));
     if (!(t > is.contributionThreshold)) return nullptr;
     is.contributionThreshold = t;
     return std::make_unique<Integrator>(scene_, is, camera_.up());
@@ -794,8 +801,9 @@ class FrameJob {
         const int n = fb_.samples[i];
         // Several samples: their spread, but at least the neighbours' disagreement scaled as a mean of n samples
         // (samples that all fell on one side of an edge show no spread)
-        const float spread =
-            n == 1 ? 0.0f : progressive_ ? samplingEstimate(acc_[i].sum, acc_[i].sum2, n) : sampling[i];
+        const float spread = n == 1         ? 0.0f
+                             : progressive_ ? samplingEstimate(acc_[i].sum, acc_[i].sum2, n)
+                                            : sampling[i];
         const float scale = n == 1 ? 1.0f : 1.0f / std::sqrt(float(n));
         const bool interior = x > 0 && y > 0 && x + 1 < w_ && y + 1 < h_ && traced[i - 1] && traced[i + 1] &&
                               traced[i - w_] && traced[i + w_];
