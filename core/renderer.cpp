@@ -196,6 +196,10 @@ class FrameJob {
         if (checkAbort && !first && sliceOver()) break;  // slice over: no new tile (each worker takes one)
         std::size_t i = next.fetch_add(1);
         if (i >= total) break;
+        if (checkAbort && s_.abortAfterTiles >= 0 && i >= std::size_t(s_.abortAfterTiles)) {
+          abortFlag = true;  // testing: the deterministic abort (every earlier slot was taken before this one)
+          return;
+        }
         try {
           const auto t0 = std::chrono::steady_clock::now();
           tileFn(int(i));

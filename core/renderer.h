@@ -125,6 +125,10 @@ struct RenderSettings {
   std::function<bool()> abortCheck;
   /// Called on the calling thread with the fraction done. May be empty.
   std::function<void(double)> progress;
+  /// Testing: a deterministic abort. The frame aborts (as if abortCheck had returned true) when a worker would
+  /// start tile slot abortAfterTiles of a pass that checks for aborts: exactly slots 0..abortAfterTiles-1 are
+  /// traced, for any thread count and however the threads are scheduled. -1 (the default): never.
+  long long abortAfterTiles = -1;
 };
 
 struct FrameStats {

@@ -177,14 +177,19 @@ TEST(Renderer, AbortThenRenderAgainGivesTheRightImage) {
   FrameStats fa = render(c.scene, cam, rs, 64, 64, aborted);
   EXPECT_TRUE(fa.aborted);
   EXPECT_EQ(fa.rays.primary, 3u * 4u * 4u);
-  // Two threads: the calling thread checks between its tiles. The frame has 16384 tiles, so the worker cannot
-  // finish them all before the third check unless the calling thread is starved for the whole frame.
-  rs.threads = 2;
-  calls = 0;
-  fa = render(c.scene, cam, rs, 512, 512, aborted);
-  EXPECT_TRUE(fa.aborted);
-  EXPECT_LT(fa.rays.primary, 512u * 512u);
+  // Several threads: the calling thread checks between its own tiles, so how many tiles the workers finish before
+  // a check is a matter of scheduling. The deterministic abort (RenderSettings::abortAfterTiles) stops the frame at
+  // a fixed tile whatever the scheduling: exactly that many tiles are traced, by any number of threads.
   rs.abortCheck = nullptr;
+  for (int threads : {2, 5}) {
+    rs.threads = threads;
+    rs.abortAfterTiles = 37;
+    fa = render(c.scene, cam, rs, 512, 512, aborted);
+    EXPECT_TRUE(fa.aborted) << threads;
+    EXPECT_EQ(fa.rays.primary, 37u * 4u * 4u) << threads;
+  }
+  rs.abortAfterTiles = -1;
+  rs.threads = 2;
   FrameBuffer again, ref;
   render(c.scene, cam, rs, 64, 64, again);
   rs.threads = 1;

@@ -503,6 +503,7 @@ whitted::RenderSettings vtkWhittedPassInternals::FrameSettings(
   rs.threads = pass->GetNumberOfThreads();
   rs.tileStride = pass->GetImageSplit()[0];
   rs.tileOffset = pass->GetImageSplit()[1];
+  rs.abortAfterTiles = pass->GetAbortAfterTilesForTesting();
   return rs;
 }
 

@@ -248,6 +248,17 @@ public:
   static vtkInformationObjectBaseKey* RADIUS_FUNCTION();
   ///@}
 
+  ///@{
+  /**
+   * For testing only: the frame aborts, as if the window's AbortRender had been set, when tracing
+   * would start its tile number N (16x16 tiles, rows bottom to top, this process's tiles only):
+   * exactly the first N tiles are traced, whatever the thread count and scheduling, so a test of
+   * an aborted frame does not depend on when a thread runs. -1 (the default): never.
+   */
+  vtkSetMacro(AbortAfterTilesForTesting, int);
+  vtkGetMacro(AbortAfterTilesForTesting, int);
+  ///@}
+
   /**
    * What the last frame did: time per phase, rays by kind, scene size, what was converted and
    * rebuilt, safety nets, whether it was aborted or failed. The same object is updated by every
@@ -320,6 +331,7 @@ protected:
   bool InteractiveShadows = vtkWhittedSettings::InteractiveShadows.Default;
   int InteractiveImageReduction = 1;
   int ImageSplit[2] = { 1, 0 };
+  int AbortAfterTilesForTesting = -1;
 
   std::string LastFrameReport;
 
