@@ -414,7 +414,10 @@ TEST(ErrorEstimate, TimeBudgetHonouredWithinOneTile) {
     EXPECT_FALSE(fs.targetMet);
     EXPECT_GT(fs.refinementRounds, 1);
     EXPECT_GE(fs.secondsTrace, budget);  // it did use the budget
-    EXPECT_LE(fs.secondsTrace, budget + fs.longestTileSeconds + 0.05);
+    // The tiles in flight (each at most the longest tile, which includes any time its thread was preempted), then
+    // the final estimate pass. The margin holds on a loaded 2-core machine (seen: 2-16 ms over the budget with both
+    // cores busy); without the budget this frame refines to 4096 samples per pixel, for seconds.
+    EXPECT_LE(fs.secondsTrace, budget + 2.0 * fs.longestTileSeconds + 0.2);
   }
 }
 

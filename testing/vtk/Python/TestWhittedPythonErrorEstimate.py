@@ -152,7 +152,10 @@ p.SetTargetError(0.0)
 p.SetTimeBudget(0.25)
 _, _, st = frame()
 check(not st.GetTargetErrorMet() and st.GetRefinementRounds() > 1, "no target: %d rounds" % st.GetRefinementRounds())
-check(0.25 <= st.GetTraceTime() <= 0.25 + 0.15, "budget 0.25 s: traced %.3f s" % st.GetTraceTime())
+# Upper bound: the budget, the tiles in flight and the final estimate pass. The margin (0.35 s) holds on a loaded
+# 2-core machine (seen: +4 to +16 ms with both cores busy); a budget that is not honoured traces this frame for
+# about 7 s (measured with the budget at 100 s)
+check(0.25 <= st.GetTraceTime() <= 0.25 + 0.35, "budget 0.25 s: traced %.3f s" % st.GetTraceTime())
 
 # 4. Interactive frames
 p.SetInteractive(True)
