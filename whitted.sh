@@ -141,15 +141,16 @@ cmd_test() {
   (cd "$BUILD/vtk" && "${XVFB[@]}" ctest -j "$JOBS" --output-on-failure --timeout 900) >"$BUILD/test-vtk.log" 2>&1 &
   local pid_main=$!
   # ASan suite: the C++ tests directly; the Python tests with the ASan runtime preloaded into /usr/bin/python3
-  # (an instrumented module needs it loaded first). Not under ASan: the 10M-triangle test (memory) and the
-  # benchmark (not built); the ParaView suite builds against ParaView's VTK in its own tree.
+  # (an instrumented module needs it loaded first). Not under ASan: the 10M-triangle test (memory), the memory
+  # soak (its quarantine keeps freed memory resident) and the benchmark (not built); the ParaView suite builds
+  # against ParaView's VTK in its own tree.
   local asan_rt
   asan_rt="$(clang -print-file-name="libclang_rt.asan-$(uname -m).so")"
   (
     cd "$BUILD/asan" || exit 1
     export ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1
     s=0
-    "${XVFB[@]}" ctest --output-on-failure --timeout 900 -LE "python|benchmark|paraview|large|install" \
+    "${XVFB[@]}" ctest --output-on-failure --timeout 900 -LE "python|benchmark|paraview|large|install|soak" \
       >"$BUILD/test-asan.log" 2>&1 || s=1
     "${XVFB[@]}" env LD_PRELOAD="$asan_rt" ctest --output-on-failure --timeout 900 -L python \
       >"$BUILD/test-asan-python.log" 2>&1 || s=1

@@ -7,6 +7,7 @@
 #include "vtkDataArray.h"
 #include "vtkDataSetSurfaceFilter.h"
 #include "vtkFieldData.h"
+#include "vtkInformation.h"
 #include "vtkMapper.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
@@ -251,6 +252,28 @@ struct vtkWhittedGeometryCache::TimeCache
   std::size_t Limit = 0;
   unsigned long Uses = 0;
   int Hits = 0;
+  // Fingerprints of contents shown and replaced (not their geometry), by last use: a contents
+  // seen here again is a re-shown input, kept the next time it is replaced
+  static constexpr std::size_t SeenLimit = 4096;
+  std::map<Key, unsigned long> Seen;
+
+  // Notes that the contents of key were shown and replaced; true if they had been before.
+  bool SeenBefore(const Key& key)
+  {
+    auto it = this->Seen.find(key);
+    const bool before = it != this->Seen.end();
+    this->Seen[key] = ++this->Uses;
+    while (this->Seen.size() > SeenLimit)
+    {
+      auto oldest = this->Seen.begin();
+      for (auto s = this->Seen.begin(); s != this->Seen.end(); ++s)
+      {
+        oldest = s->second < oldest->second ? s : oldest;
+      }
+      this->Seen.erase(oldest);
+    }
+    return before;
+  }
 
   void Insert(const Key& key, Entry entry)
   {
@@ -355,11 +378,20 @@ vtkWhittedGeometryCache::Geometry& vtkWhittedGeometryCache::Find(const Key& key,
 }
 
 //------------------------------------------------------------------------------
-void vtkWhittedGeometryCache::Keep(
-  const Key& key, Geometry& g, const vtkWhittedPolyDataConverter::Primitives* next)
+void vtkWhittedGeometryCache::Keep(const Key& key, Geometry& g,
+  const vtkWhittedPolyDataConverter::Primitives* next, bool nextHasTime, double nextTime)
 {
   if (!g.Fingerprinted || this->Kept->Limit == 0)
   {
+    return;
+  }
+  // Worth keeping: a time step the time moved on from, or contents shown (and replaced) before
+  const TimeCache::Key kept{ key.Mapper, key.Options, g.StatePrint, g.ContentPrint };
+  const bool reShown = this->Kept->SeenBefore(kept);
+  const bool timeStep = g.HasTime && (!nextHasTime || nextTime != g.Time);
+  if (!reShown && !timeStep)
+  {
+    g.Fingerprinted = false;
     return;
   }
   TimeCache::Entry entry;
@@ -387,15 +419,14 @@ void vtkWhittedGeometryCache::Keep(
   }
   if (!entry.Objects.empty())
   {
-    this->Kept->Insert(
-      TimeCache::Key{ key.Mapper, key.Options, g.StatePrint, g.ContentPrint }, std::move(entry));
+    this->Kept->Insert(kept, std::move(entry));
   }
   g.Fingerprinted = false;
 }
 
 //------------------------------------------------------------------------------
-bool vtkWhittedGeometryCache::Restore(
-  const Key& key, Geometry& g, uint64_t statePrint, uint64_t contentPrint)
+bool vtkWhittedGeometryCache::Restore(const Key& key, Geometry& g, uint64_t statePrint,
+  uint64_t contentPrint, bool hasTime, double time)
 {
   TimeCache& tc = *this->Kept;
   auto it = tc.Entries.find(TimeCache::Key{ key.Mapper, key.Options, statePrint, contentPrint });
@@ -406,7 +437,7 @@ bool vtkWhittedGeometryCache::Restore(
   TimeCache::Entry entry = std::move(it->second);
   tc.Bytes -= entry.Bytes;
   tc.Entries.erase(it);
-  this->Keep(key, g, nullptr); // what the geometry holds now becomes an entry in turn
+  this->Keep(key, g, nullptr, hasTime, time); // what the geometry holds now may be kept in turn
   if (entry.Info.ColorCoords)
   {
     this->Textures.Store(g.ColorTexture, std::move(entry.ColorMap));
@@ -454,6 +485,8 @@ bool vtkWhittedGeometryCache::Restore(
   g.TCoords = entry.Info.TCoords;
   g.Issues = entry.Info.Issues;
   g.Origin = entry.Info.Origin;
+  g.Time = time;
+  g.HasTime = hasTime;
   ++tc.Hits;
   return true;
 }
@@ -482,12 +515,20 @@ const vtkWhittedGeometryCache::Geometry& vtkWhittedGeometryCache::Get(vtkMapper*
 
   // Time cache: the same contents as held (nothing to do), or as kept from an earlier frame
   uint64_t statePrint = 0, contentPrint = 0;
+  vtkInformation* dataInfo = poly->GetInformation();
+  const bool hasTime = dataInfo && dataInfo->Has(vtkDataObject::DATA_TIME_STEP());
+  const double time = hasTime ? dataInfo->Get(vtkDataObject::DATA_TIME_STEP()) : 0.0;
   if (this->Kept->Limit > 0)
   {
     statePrint = StatePrint(mapper, options, radiusScale);
     contentPrint = ContentPrint(poly);
+    if (g.Fingerprinted && g.StatePrint == statePrint && g.ContentPrint == contentPrint)
+    {
+      g.Time = time; // the same contents at another time (a static object in an animation)
+      g.HasTime = hasTime;
+    }
     if ((g.Fingerprinted && g.StatePrint == statePrint && g.ContentPrint == contentPrint) ||
-      this->Restore(key, g, statePrint, contentPrint))
+      this->Restore(key, g, statePrint, contentPrint, hasTime, time))
     {
       g.Fingerprinted = true;
       g.StatePrint = statePrint;
@@ -501,7 +542,7 @@ const vtkWhittedGeometryCache::Geometry& vtkWhittedGeometryCache::Get(vtkMapper*
   vtkWhittedPolyDataConverter::Primitives c;
   vtkWhittedPolyDataConverter::Convert(poly, mapper, options, radiusScale(), c);
   ++converted;
-  this->Keep(key, g, &c); // the contents held until now, for a later hit
+  this->Keep(key, g, &c, hasTime, time); // the contents held until now, for a later hit
 
   // The colour map (InterpolateScalarsBeforeMapping) replaces the geometry's previous one in place,
   // so a lookup-table edit changes no id (and the mesh referring to it keeps its BVH)
@@ -538,6 +579,8 @@ const vtkWhittedGeometryCache::Geometry& vtkWhittedGeometryCache::Get(vtkMapper*
   g.Issues = c.Issues;
   g.Origin = c.Origin;
   g.Fingerprinted = this->Kept->Limit > 0;
+  g.Time = time;
+  g.HasTime = hasTime;
   g.StatePrint = statePrint;
   g.ContentPrint = contentPrint;
   g.Data = poly;
@@ -665,6 +708,10 @@ void vtkWhittedGeometryCache::FreeUnused()
     tc.Bytes -= it->second.Bytes;
     it = tc.Entries.erase(it);
   }
+  for (auto it = tc.Seen.begin(); it != tc.Seen.end();)
+  {
+    it = mappers.count(it->first.Mapper) ? std::next(it) : tc.Seen.erase(it);
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -674,5 +721,6 @@ void vtkWhittedGeometryCache::Clear()
   this->Surfaces.clear();
   this->FreeObjects.clear();
   this->Kept->Entries.clear();
+  this->Kept->Seen.clear();
   this->Kept->Bytes = 0;
 }

@@ -30,6 +30,14 @@
  * hit cannot show stale data: an upstream edit changes the fingerprint. Entries are dropped
  * least recently used first to stay within the limit and to leave a tenth of the machine's
  * memory available, and with their mapper.
+ * What is kept: contents a user comes back to, not every contents ever shown. When a geometry's
+ * contents are replaced, they are kept if they were a time step (the input carried
+ * vtkDataObject::DATA_TIME_STEP, as readers' and ParaView's time-varying data do) and the new
+ * input is another time step, or if the same contents had been shown and replaced before (a
+ * re-shown input: going back to an earlier contour value, replaying a pipeline without time).
+ * Dragging a contour slider through new values therefore keeps nothing: the fingerprints of
+ * replaced contents are remembered (a few bytes each, the last 4096), not their geometry.
+ * Replaying a pipeline without time information converts once more, then hits.
  *
  * @sa vtkWhittedSceneConverter vtkWhittedPolyDataConverter vtkWhittedTextureCache
  */
@@ -89,6 +97,9 @@ public:
     /// Fingerprints of the contents now held (time cache key; valid if Fingerprinted).
     uint64_t ContentPrint = 0, StatePrint = 0;
     bool Fingerprinted = false;
+    /// The contents' DATA_TIME_STEP (if HasTime): time steps are kept when the time moves on.
+    double Time = 0.0;
+    bool HasTime = false;
   };
 
   /// What the time cache did in this frame and holds.
@@ -150,10 +161,14 @@ private:
   // under key), or a new one.
   Geometry& Find(const Key& key, int piece);
   // Time cache: moves (or, when next may refit them, copies) the objects g holds into the cache
-  // under g's fingerprints; next is the conversion about to replace them (null: none).
-  void Keep(const Key& key, Geometry& g, const vtkWhittedPolyDataConverter::Primitives* next);
+  // under g's fingerprints, if they are worth keeping (class documentation); next is the
+  // conversion about to replace them (null: none), nextHasTime/nextTime the time of what replaces
+  // them.
+  void Keep(const Key& key, Geometry& g, const vtkWhittedPolyDataConverter::Primitives* next,
+    bool nextHasTime, double nextTime);
   // Gives g the kept objects of these fingerprints (what g holds is kept in turn); false if none.
-  bool Restore(const Key& key, Geometry& g, uint64_t statePrint, uint64_t contentPrint);
+  bool Restore(const Key& key, Geometry& g, uint64_t statePrint, uint64_t contentPrint,
+    bool hasTime, double time);
 
   struct TimeCache;
 

@@ -69,11 +69,12 @@
     "affinity: mpirun binds each rank to one core by default, so start pvserver or pvbatch with "  \
     "mpirun --bind-to none, or give each rank several cores with --map-by ppr:1:node:pe=N, to "    \
     "trace with N threads per rank).")                                                             \
-  X(Pass, int, TimeCacheMemory, 1024, 0, 1048576,                                                  \
+  X(Pass, int, TimeCacheMemory, 100, 0, 1048576,                                                   \
     "Megabytes of memory for keeping the converted geometry and BVHs of earlier time steps (or "   \
-    "earlier inputs of the same object), so that showing them again, e.g. replaying an "           \
-    "animation, converts and builds nothing. Least recently used first out; never fills the last " \
-    "tenth of the machine's memory; 0 = off.")                                                     \
+    "earlier inputs of the same object shown again), so that showing them again, e.g. replaying "  \
+    "an animation, converts and builds nothing; new inputs that are not time steps (a contour "    \
+    "slider dragged) are not kept. Least recently used first out; never fills the last tenth of "  \
+    "the machine's memory; 0 = off. Default 100, as ParaView's animation geometry cache.")         \
   X(Pass, int, InteractiveMaxDepth, 1, 0, 64,                                                      \
     "Maximum bounces while the camera moves (the smaller of this and Max Depth).")                 \
   X(Pass, bool, InteractiveShadows, true, false, true,                                             \

@@ -2,8 +2,13 @@
 // change keeps its object and BVH; a step that only moves points refits the BVH (also when the
 // step's data arrives as a new data object, as ParaView hands it over), and the refitted tree
 // gives the image a fresh build gives; a step with new connectivity (a contour of another value)
-// is rebuilt. Replaying the steps restores each from the time cache: nothing converted or built,
-// the same images as the first pass. With the time cache off, replaying converts again.
+// is rebuilt. The time cache keeps what a user comes back to: the sphere's steps carry a time
+// (DATA_TIME_STEP, as a reader's steps do) and are kept as the time moves on; the contour comes from
+// a pipeline without time, so its contents are kept only once they are shown again. Replaying the
+// steps restores the sphere from the time cache and converts the contour once more; a second replay
+// restores both: nothing converted or built, the same images as the first pass. Dragging the
+// contour value through new values keeps nothing. With the time cache off, replaying converts
+// again.
 #include "WhittedTestUtilities.h"
 
 #include "vtkContourFilter.h"
@@ -110,6 +115,7 @@ int TestWhittedTimeSeries(int, char*[])
     elevation->Update();
     vtkNew<vtkPolyData> step; // a new object per step, as ParaView delivers time steps
     step->DeepCopy(elevation->GetOutput());
+    step->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), 0.5 * k);
     sphereMapper->SetInputData(step);
     contour->SetValue(0, 120.0 + 25.0 * k);
   };
@@ -140,19 +146,51 @@ int TestWhittedTimeSeries(int, char*[])
     ren->SetPass(pass);
   }
 
-  // Replay: every step comes back from the time cache (the last one too: it was kept when the
-  // first came back), with the first pass's image
-  for (int k = 0; k < steps; ++k)
+  // Replay: the sphere's steps come back from the time cache (the last one too: it was kept when
+  // the first came back), the contour's are converted again (each shown a second time now, so kept
+  // when replaced); the second replay restores both. Always the first pass's image.
+  for (int replay = 1; replay <= 2; ++replay)
   {
-    setStep(k);
-    std::snprintf(what, sizeof what, "replay, step %d", k);
-    ok &= Check(win, pass, what, Counts{ 0, 0, 0, 2 }); // sphere and contour
-    std::snprintf(what, sizeof what, "replay image, step %d", k);
-    ok &= SameImage(Image(pass), images[k], what);
+    for (int k = 0; k < steps; ++k)
+    {
+      setStep(k);
+      std::snprintf(what, sizeof what, "replay %d, step %d", replay, k);
+      ok &= Check(win, pass, what, replay == 1 ? Counts{ 1, 1, 0, 1 } : Counts{ 0, 0, 0, 2 });
+      std::snprintf(what, sizeof what, "replay %d image, step %d", replay, k);
+      ok &= SameImage(Image(pass), images[k], what);
+    }
   }
   // The same step again (a new data object with the same contents): nothing to do
   setStep(steps - 1);
   ok &= Check(win, pass, "same step again", Counts{ 0, 0, 0, 0 });
+
+  // Dragging the contour value through values never shown: each converts, nothing more is kept
+  // (the first new value replaces the last step's contour, which was shown again above and is
+  // kept: the cache is compared from there)
+  {
+    int entries = 0;
+    vtkTypeUInt64 bytes = 0;
+    vtkWhittedFrameStatistics* stats = pass->GetLastFrameStatistics();
+    for (int v = 0; v < 6; ++v)
+    {
+      contour->SetValue(0, 131.5 + 7.0 * v);
+      std::snprintf(what, sizeof what, "contour drag, value %d", v);
+      ok &= Check(win, pass, what, Counts{ 1, 1, 0, 0 });
+      if (v == 0)
+      {
+        entries = stats->GetNumberOfTimeCacheEntries();
+        bytes = stats->GetTimeCacheBytes();
+      }
+    }
+    if (stats->GetNumberOfTimeCacheEntries() != entries || stats->GetTimeCacheBytes() != bytes)
+    {
+      std::printf("contour drag: the time cache went from %d entries (%llu bytes) to %d (%llu)   "
+                  "<-- FAIL\n",
+        entries, static_cast<unsigned long long>(bytes), stats->GetNumberOfTimeCacheEntries(),
+        static_cast<unsigned long long>(stats->GetTimeCacheBytes()));
+      ok = false;
+    }
+  }
 
   // Time cache off: it is emptied, and replaying converts again
   pass->SetTimeCacheMemory(0);
