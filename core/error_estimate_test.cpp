@@ -412,8 +412,9 @@ TEST(ErrorEstimate, TimeBudgetHonouredWithinOneTile) {
     std::printf("budget %.2f s: frame %.3f s, longest tile %.4f s, %d rounds, %llu samples\n", budget, fs.secondsTrace,
                 fs.longestTileSeconds, fs.refinementRounds, (unsigned long long)fs.samples);
     EXPECT_FALSE(fs.targetMet);
-    EXPECT_GT(fs.refinementRounds, 1);
-    EXPECT_GE(fs.secondsTrace, budget);  // it did use the budget
+    // It did use the budget: a frame that stopped refining early traces less (unbudgeted it refines for seconds).
+    // Not a count of rounds: how many fit depends on the machine's load (a loaded 2-core machine fits fewer).
+    EXPECT_GE(fs.secondsTrace, budget);
     // The tiles in flight (each at most the longest tile, which includes any time its thread was preempted), then
     // the final estimate pass. The margin holds on a loaded 2-core machine (seen: 2-16 ms over the budget with both
     // cores busy); without the budget this frame refines to 4096 samples per pixel, for seconds.

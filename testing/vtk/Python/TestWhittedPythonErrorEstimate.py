@@ -151,7 +151,10 @@ check(st.GetNumberOfSamples() > pixels and samples.sum() == st.GetNumberOfSample
 p.SetTargetError(0.0)
 p.SetTimeBudget(0.25)
 _, _, st = frame()
-check(not st.GetTargetErrorMet() and st.GetRefinementRounds() > 1, "no target: %d rounds" % st.GetRefinementRounds())
+# Not "more than one round": how many rounds fit in 0.25 s depends on the machine's load (a loaded 2-core machine
+# fits one, sometimes none after a slow first pass). A frame that stops refining before its budget traces less
+# than the budget (unbudgeted it refines for ~7 s): the lower bound below is what says that only the budget stopped it
+check(not st.GetTargetErrorMet(), "no target: not met, %d rounds" % st.GetRefinementRounds())
 # Upper bound: the budget, the tiles in flight and the final estimate pass. The margin (0.35 s) holds on a loaded
 # 2-core machine (seen: +4 to +16 ms with both cores busy); a budget that is not honoured traces this frame for
 # about 7 s (measured with the budget at 100 s)
