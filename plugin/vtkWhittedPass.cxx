@@ -160,7 +160,9 @@ public:
   // Error image display: the traced frame with every traced pixel's colour replaced by its grey
   // level (see vtkWhittedPass::ShowErrorImage)
   whitted::FrameBuffer ErrorDisplay;
+  whitted::FrameBuffer Perturbed; // PerturbShadingForTesting only
   const whitted::FrameBuffer& DisplayedFrame(vtkWhittedPass* pass);
+  const whitted::FrameBuffer& ErrorDisplayed(vtkWhittedPass* pass);
   vtkNew<vtkWhittedFrameStatistics> Statistics;
 
   // What one frame computed, for the statistics
@@ -449,10 +451,31 @@ vtkWhittedPassInternals::FrameKey vtkWhittedPassInternals::KeyOf(
 //------------------------------------------------------------------------------
 const whitted::FrameBuffer& vtkWhittedPassInternals::DisplayedFrame(vtkWhittedPass* pass)
 {
-  if (!pass->GetShowErrorImage())
+  const whitted::FrameBuffer& f = pass->GetShowErrorImage() ? this->ErrorDisplayed(pass) : this->Frame;
+  if (!pass->GetPerturbShadingForTesting())
   {
-    return this->Frame;
+    return f;
   }
+  // For testing only (see the setter): every 100th pixel hit by an opaque surface off by 10/255
+  this->Perturbed = f;
+  const float step = 10.0f / 255.0f;
+  for (size_t i = 0; i < f.color.size(); i += 100)
+  {
+    whitted::Color4& c = this->Perturbed.color[i];
+    if (this->Frame.traced[i] && this->Frame.color[i].a >= 1.0f)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        c[k] += c[k] > 0.5f ? -step : step;
+      }
+    }
+  }
+  return this->Perturbed;
+}
+
+//------------------------------------------------------------------------------
+const whitted::FrameBuffer& vtkWhittedPassInternals::ErrorDisplayed(vtkWhittedPass* pass)
+{
   // Grey = scale x (truncation bound + sampling estimate), opaque; depth as traced, so OpenGL
   // props still sort against the surfaces
   const whitted::FrameBuffer& f = this->Frame;

@@ -259,6 +259,18 @@ public:
   vtkGetMacro(AbortAfterTilesForTesting, int);
   ///@}
 
+  ///@{
+  /**
+   * For testing only: a deliberately wrong image, to prove that the image tests catch a small
+   * shading error. When on, the displayed colour of every 100th pixel of the traced frame (pixel
+   * index i % 100 == 0, rows bottom to top) that the tracer hit with an opaque surface (alpha 1)
+   * is moved by 10/255 in each channel (down where the channel is above 0.5, else up): 1% of the
+   * pixels, 10/255 each. GetLastFrame() still returns the unperturbed frame. Default off.
+   */
+  vtkSetMacro(PerturbShadingForTesting, bool);
+  vtkGetMacro(PerturbShadingForTesting, bool);
+  ///@}
+
   /**
    * What the last frame did: time per phase, rays by kind, scene size, what was converted and
    * rebuilt, safety nets, whether it was aborted or failed. The same object is updated by every
@@ -332,6 +344,7 @@ protected:
   int InteractiveImageReduction = 1;
   int ImageSplit[2] = { 1, 0 };
   int AbortAfterTilesForTesting = -1;
+  bool PerturbShadingForTesting = false;
 
   std::string LastFrameReport;
 

@@ -20,7 +20,8 @@ from vtkmodules.vtkRenderingCore import (vtkActor, vtkPointGaussianMapper, vtkPo
                                          vtkRenderer, vtkRenderWindow)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
 from whitted import vtkWhittedPass
-from whitted_imagetest import grab_with_depth, light_and_camera, quad_actor
+from whitted_imagetest import (apply_test_switches, check_against_raster, check_baseline, grab_with_depth,
+                               light_and_camera, quad_actor)
 
 SIZE = (300, 220)
 SIZES = [0.5, 2.0, 3.5, 5.0, 6.5, 8.0, 9.5, 12.0, -1.0]   # the last two clamp to the function's ends
@@ -146,7 +147,7 @@ def render(ren, traced=True, shadows=False, reflections=False):
     win.AddRenderer(ren)
     p = None
     if traced:
-        p = vtkWhittedPass()
+        p = apply_test_switches(vtkWhittedPass())
         p.SetShadows(shadows)
         p.SetReflections(reflections)
         p.SetRefractions(False)
@@ -229,7 +230,12 @@ class TestWhittedPythonRadii(Testing.vtkTest):
         keyed.SetPosition(0.3, 0, 1.2)
         ren.GetActiveCamera().SetPosition(0.8, 3.8, 7.5)
         win, p, (lit, _) = render(ren, shadows=True, reflections=True)
-        self.assertImageMatch(win, "TestWhittedPythonRadii.png")
+        check_baseline(self, win, "TestWhittedPythonRadii.png")
+        # Independent: VTK's raster of the floor (the splats, spheres and mirror left out: VTK draws the first two
+        # as impostors of other sizes)
+        actors = ren.GetActors()
+        check_against_raster(self, "PythonRadii", win, p, [actors.GetItemAsObject(i) for i in (0, 1, 3)],
+                             min_shadow_share=0.01, min_umbra_share=0.05)
         p.SetShadows(False)
         win.Render()
         unshadowed, _ = grab_with_depth(win)
