@@ -449,6 +449,21 @@ vtkWhittedPassInternals::FrameKey vtkWhittedPassInternals::KeyOf(
 //------------------------------------------------------------------------------
 const whitted::FrameBuffer& vtkWhittedPassInternals::DisplayedFrame(vtkWhittedPass* pass)
 {
+  if (pass->GetShowErrorImage() == false && pass->GetShadingErrorForTesting() > 0)
+  {
+    // The testing switch: N/255 more on 1% of the pixels (premultiplied: added light)
+    this->ErrorDisplay = this->Frame;
+    const float add = static_cast<float>(pass->GetShadingErrorForTesting()) / 255.0f;
+    for (size_t i = 0; i < this->ErrorDisplay.color.size(); ++i)
+    {
+      if (static_cast<uint32_t>(i * 2654435761u) % 100u == 0u)
+      {
+        whitted::Color4& c = this->ErrorDisplay.color[i];
+        c = whitted::Color4(c.r + add, c.g + add, c.b + add, c.a);
+      }
+    }
+    return this->ErrorDisplay;
+  }
   if (!pass->GetShowErrorImage())
   {
     return this->Frame;

@@ -259,6 +259,16 @@ public:
   vtkGetMacro(AbortAfterTilesForTesting, int);
   ///@}
 
+  ///@{
+  /**
+   * For testing only (negative controls of image tests): a deliberately wrong image, N/255 added
+   * to the red, green and blue of 1% of the displayed pixels (a fixed scattered pattern: pixel i
+   * when (i x 2654435761) mod 2^32 mod 100 is 0). 0 (the default): the image as traced.
+   */
+  vtkSetClampMacro(ShadingErrorForTesting, int, 0, 255);
+  vtkGetMacro(ShadingErrorForTesting, int);
+  ///@}
+
   /**
    * What the last frame did: time per phase, rays by kind, scene size, what was converted and
    * rebuilt, safety nets, whether it was aborted or failed. The same object is updated by every
@@ -332,6 +342,7 @@ protected:
   int InteractiveImageReduction = 1;
   int ImageSplit[2] = { 1, 0 };
   int AbortAfterTilesForTesting = -1;
+  int ShadingErrorForTesting = 0;
 
   std::string LastFrameReport;
 
