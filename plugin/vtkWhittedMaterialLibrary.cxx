@@ -36,21 +36,32 @@ struct WhittedKeys
   double AttenuationDistance = 1.0;
 };
 
+/// The Phong highlight a preset gives: the mirror image of the point lights (the light kit), which
+/// reflected rays cannot see. Specular 0 (ParaView's and VTK's default) would leave glass and
+/// mirrors without one: on a plain background they would not show at all.
+struct Highlight
+{
+  double Specular;
+  double Power;
+  RGB Color;
+};
+
 struct Preset
 {
   const char* Name;
   WhittedKeys Keys;
+  Highlight Light;
 };
 
 const Preset Presets[] = {
-  { "None", {} },
-  { "Glass", { false, {}, true, { 1, 1, 1 }, 1.5 } },
-  { "Water", { false, {}, true, { 1, 1, 1 }, 1.33, { 0.80, 0.93, 0.95 } } },
-  { "Mirror", { true, { 1, 1, 1 } } },
-  { "Chrome", { true, { 0.55, 0.55, 0.55 } } },
-  { "Gold", { true, { 1.0, 0.71, 0.29 } } },
-  { "Copper", { true, { 0.95, 0.64, 0.54 } } },
-  { "Plastic", { true, { 0.04, 0.04, 0.04 } } },
+  { "None", {}, { 0, 1, { 1, 1, 1 } } },
+  { "Glass", { false, {}, true, { 1, 1, 1 }, 1.5 }, { 1.0, 100, { 1, 1, 1 } } },
+  { "Water", { false, {}, true, { 1, 1, 1 }, 1.33, { 0.80, 0.93, 0.95 } }, { 1.0, 100, { 1, 1, 1 } } },
+  { "Mirror", { true, { 1, 1, 1 } }, { 1.0, 100, { 1, 1, 1 } } },
+  { "Chrome", { true, { 0.55, 0.55, 0.55 } }, { 1.0, 100, { 1, 1, 1 } } },
+  { "Gold", { true, { 1.0, 0.71, 0.29 } }, { 1.0, 100, { 1.0, 0.71, 0.29 } } },
+  { "Copper", { true, { 0.95, 0.64, 0.54 } }, { 1.0, 100, { 0.95, 0.64, 0.54 } } },
+  { "Plastic", { true, { 0.04, 0.04, 0.04 } }, { 0.5, 50, { 1, 1, 1 } } },
 };
 
 /// Writes every key: a key at its default is removed, so that "None" is exactly no keys.
@@ -161,6 +172,25 @@ int vtkWhittedMaterialLibrary::GetNumberOfPresets()
 const char* vtkWhittedMaterialLibrary::GetPresetName(int index)
 {
   return (index >= 0 && index < GetNumberOfPresets()) ? Presets[index].Name : nullptr;
+}
+
+bool vtkWhittedMaterialLibrary::GetPresetHighlight(
+  const char* name, double& specular, double& specularPower, double specularColor[3])
+{
+  for (const Preset& p : Presets)
+  {
+    if (name && std::string(p.Name) == name && std::string(p.Name) != "None")
+    {
+      specular = p.Light.Specular;
+      specularPower = p.Light.Power;
+      for (int i = 0; i < 3; ++i)
+      {
+        specularColor[i] = p.Light.Color[i];
+      }
+      return true;
+    }
+  }
+  return false;
 }
 
 bool vtkWhittedMaterialLibrary::ApplyPreset(const char* name, vtkProperty* property)

@@ -73,6 +73,16 @@ public:
    */
   static bool ApplyPreset(const char* name, vtkProperty* property);
 
+  /**
+   * The specular highlight of a preset (the mirror image of the lights, which the Whitted keys
+   * cannot give): Specular, SpecularPower, SpecularColor. Glass, Water, Mirror, Chrome: 1, 100,
+   * white; Gold, Copper: 1, 100, their reflectance colour; Plastic: 0.5, 50, white. Returns false
+   * for None and unknown names. ApplyPreset does not set them (a vtkProperty's highlight is the
+   * program's); ParaView's "Whitted Surface" representation does (vtkWhittedGeometryRepresentation).
+   */
+  static bool GetPresetHighlight(
+    const char* name, double& specular, double& specularPower, double specularColor[3]);
+
   ///@{
   /**
    * Reads an OSPRay material library from a JSON file or string; the materials are added to

@@ -160,7 +160,7 @@ public:
   // Error image display: the traced frame with every traced pixel's colour replaced by its grey
   // level (see vtkWhittedPass::ShowErrorImage)
   whitted::FrameBuffer ErrorDisplay;
-  whitted::FrameBuffer Perturbed; // PerturbShadingForTesting only
+  whitted::FrameBuffer Perturbed; // ShadingErrorForTesting only
   const whitted::FrameBuffer& DisplayedFrame(vtkWhittedPass* pass);
   const whitted::FrameBuffer& ErrorDisplayed(vtkWhittedPass* pass);
   vtkNew<vtkWhittedFrameStatistics> Statistics;
@@ -452,13 +452,13 @@ vtkWhittedPassInternals::FrameKey vtkWhittedPassInternals::KeyOf(
 const whitted::FrameBuffer& vtkWhittedPassInternals::DisplayedFrame(vtkWhittedPass* pass)
 {
   const whitted::FrameBuffer& f = pass->GetShowErrorImage() ? this->ErrorDisplayed(pass) : this->Frame;
-  if (!pass->GetPerturbShadingForTesting())
+  if (pass->GetShadingErrorForTesting() <= 0)
   {
     return f;
   }
-  // For testing only (see the setter): every 100th pixel hit by an opaque surface off by 10/255
+  // For testing only (see the setter): every 100th pixel hit by an opaque surface off by N/255
   this->Perturbed = f;
-  const float step = 10.0f / 255.0f;
+  const float step = static_cast<float>(pass->GetShadingErrorForTesting()) / 255.0f;
   for (size_t i = 0; i < f.color.size(); i += 100)
   {
     whitted::Color4& c = this->Perturbed.color[i];

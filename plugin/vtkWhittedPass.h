@@ -261,14 +261,15 @@ public:
 
   ///@{
   /**
-   * For testing only: a deliberately wrong image, to prove that the image tests catch a small
-   * shading error. When on, the displayed colour of every 100th pixel of the traced frame (pixel
-   * index i % 100 == 0, rows bottom to top) that the tracer hit with an opaque surface (alpha 1)
-   * is moved by 10/255 in each channel (down where the channel is above 0.5, else up): 1% of the
-   * pixels, 10/255 each. GetLastFrame() still returns the unperturbed frame. Default off.
+   * For testing only (negative controls of the image tests): a deliberately wrong image, to prove
+   * that the image tests catch a small shading error. N > 0: the displayed colour of every 100th
+   * pixel of the traced frame (pixel index i % 100 == 0, rows bottom to top) that the tracer hit
+   * with an opaque surface (alpha 1) is moved by N/255 in each channel (down where the channel is
+   * above 0.5, else up): up to 1% of the pixels, N/255 each. GetLastFrame() still returns the
+   * unperturbed frame. 0 (the default): the image as traced.
    */
-  vtkSetMacro(PerturbShadingForTesting, bool);
-  vtkGetMacro(PerturbShadingForTesting, bool);
+  vtkSetClampMacro(ShadingErrorForTesting, int, 0, 255);
+  vtkGetMacro(ShadingErrorForTesting, int);
   ///@}
 
   /**
@@ -344,7 +345,7 @@ protected:
   int InteractiveImageReduction = 1;
   int ImageSplit[2] = { 1, 0 };
   int AbortAfterTilesForTesting = -1;
-  bool PerturbShadingForTesting = false;
+  int ShadingErrorForTesting = 0;
 
   std::string LastFrameReport;
 

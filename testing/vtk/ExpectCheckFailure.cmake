@@ -1,5 +1,5 @@
 # Negative control: runs one image test with the testing-only shading perturbation on
-# (WHITTED_TEST_PERTURB_SHADING: vtkWhittedPass::PerturbShadingForTesting, 1% of the traced pixels off
+# (WHITTED_TEST_PERTURB_SHADING: vtkWhittedPass::ShadingErrorForTesting 10, 1% of the traced pixels off
 # by 10/255) and succeeds only if the test fails on its direct baseline pixel check: non-zero exit
 # status AND the message "Baseline pixel check failed" (a crash or a missing baseline does not count).
 # COMMAND: the test's command line, a ;-separated list.

@@ -184,6 +184,10 @@ bool vtkPVWhittedView::GetFresnel()
 {
   return this->WhittedPass->GetFresnel();
 }
+void vtkPVWhittedView::SetShadingErrorForTesting(int value)
+{
+  this->WhittedPass->SetShadingErrorForTesting(value);
+}
 void vtkPVWhittedView::SetInteractiveMaxDepth(int value)
 {
   this->WhittedPass->SetInteractiveMaxDepth(value);

@@ -91,6 +91,7 @@ public:
   bool GetRefractions();
   void SetFresnel(bool value);
   bool GetFresnel();
+  void SetShadingErrorForTesting(int value); ///< vtkWhittedPass::SetShadingErrorForTesting
   void SetContributionThreshold(double value);
   double GetContributionThreshold();
   void SetTargetError(double value);

@@ -30,8 +30,42 @@ vtkWhittedGeometryRepresentation::~vtkWhittedGeometryRepresentation()
 }
 
 //------------------------------------------------------------------------------
+void vtkWhittedGeometryRepresentation::UpdateHighlight()
+{
+  double specular = this->UserSpecular, power = this->UserSpecularPower;
+  double color[3] = { this->UserSpecularColor[0], this->UserSpecularColor[1],
+    this->UserSpecularColor[2] };
+  vtkWhittedMaterialLibrary::GetPresetHighlight(
+    vtkWhittedMaterialLibrary::GetPresetName(this->MaterialPreset), specular, power, color);
+  this->Superclass::SetSpecular(specular);
+  this->Superclass::SetSpecularPower(power);
+  this->Superclass::SetSpecularColor(color[0], color[1], color[2]);
+}
+
+void vtkWhittedGeometryRepresentation::SetSpecular(double value)
+{
+  this->UserSpecular = value;
+  this->UpdateHighlight();
+}
+
+void vtkWhittedGeometryRepresentation::SetSpecularPower(double value)
+{
+  this->UserSpecularPower = value;
+  this->UpdateHighlight();
+}
+
+void vtkWhittedGeometryRepresentation::SetSpecularColor(double r, double g, double b)
+{
+  this->UserSpecularColor[0] = r;
+  this->UserSpecularColor[1] = g;
+  this->UserSpecularColor[2] = b;
+  this->UpdateHighlight();
+}
+
+//------------------------------------------------------------------------------
 void vtkWhittedGeometryRepresentation::UpdateMaterialKeys()
 {
+  this->UpdateHighlight();
   // A preset sets (or removes) every key
   const char* preset = vtkWhittedMaterialLibrary::GetPresetName(this->MaterialPreset);
   if (this->MaterialPreset > 0 && vtkWhittedMaterialLibrary::ApplyPreset(preset, this->Property))

@@ -86,6 +86,17 @@ public:
 
   ///@{
   /**
+   * The Surface's highlight. With a MaterialPreset other than None the preset's highlight is
+   * used instead (vtkWhittedMaterialLibrary::GetPresetHighlight: glass and mirrors show the
+   * lights); these values come back with None.
+   */
+  void SetSpecular(double value) override;
+  void SetSpecularPower(double value) override;
+  void SetSpecularColor(double r, double g, double b) override;
+  ///@}
+
+  ///@{
+  /**
    * OSPRay scaling properties, forwarded as the pass's radius keys (see class documentation).
    */
   void SetEnableScaling(int mode) override;
@@ -106,6 +117,9 @@ protected:
   double AttenuationDistance = 1.0;
   char* MaterialLibrary = nullptr;
   char* LibraryMaterial = nullptr;
+  double UserSpecular = 0.0;
+  double UserSpecularPower = 100.0;
+  double UserSpecularColor[3] = { 1.0, 1.0, 1.0 };
   int ScalingMode = 0;
   std::string ScalingArray;
   vtkSmartPointer<vtkPiecewiseFunction> ScalingFunction;
@@ -113,6 +127,8 @@ protected:
 private:
   // Writes the keys of the preset, the library material or the fields onto the actor's property.
   void UpdateMaterialKeys();
+  // Gives the superclass the preset's highlight, or the user's
+  void UpdateHighlight();
   // Writes (or removes) the radius keys from the scaling mode, array and function.
   void UpdateRadiusKeys();
   // Sets a field (a colour) and updates the keys if it changed.

@@ -184,13 +184,13 @@ inline int DifferingPixels(
 
 /// The negative control's switch (testing/vtk/CMakeLists.txt, *.PerturbedShadingFails): with the
 /// environment variable WHITTED_TEST_PERTURB_SHADING set, the pass draws 1% of its pixels off by
-/// 10/255 (vtkWhittedPass::SetPerturbShadingForTesting), and the image checks must fail.
+/// 10/255 (vtkWhittedPass::SetShadingErrorForTesting), and the image checks must fail.
 inline void ApplyTestSwitches(vtkWhittedPass* pass)
 {
   if (std::getenv("WHITTED_TEST_PERTURB_SHADING"))
   {
-    std::cout << "[switch] vtkWhittedPass::PerturbShadingForTesting on\n";
-    pass->SetPerturbShadingForTesting(true);
+    std::cout << "[switch] vtkWhittedPass::ShadingErrorForTesting 10\n";
+    pass->SetShadingErrorForTesting(10);
   }
 }
 

@@ -119,8 +119,8 @@ def apply_test_switches(render_pass):
     import os
 
     if os.environ.get("WHITTED_TEST_PERTURB_SHADING"):
-        print("[switch] vtkWhittedPass.PerturbShadingForTesting on")
-        render_pass.SetPerturbShadingForTesting(True)
+        print("[switch] vtkWhittedPass.ShadingErrorForTesting 10")
+        render_pass.SetShadingErrorForTesting(10)
     return render_pass
 
 
