@@ -10,7 +10,10 @@
 
 namespace whitted {
 
-/// Tracing settings. Defaults are those of vtkWhittedPass.
+/// Tracing settings. Defaults are those of vtkWhittedPass (plugin/vtkWhittedSettings.h) except two the pass sets
+/// per frame: beerLambert (on in the pass, where only materials with an attenuation colour below 1 absorb) and
+/// truncationLookahead (0 in the pass unless TargetError or TimeBudget steer by the estimate). The per-camera
+/// fields (headlightShading, viewFromEye, eye, pixelSize, pixelAngle) are the caller's.
 struct IntegratorSettings {
   int maxDepth = 5;         ///< Secondary bounces per path (0 = local shading only). Default 5.
   bool shadows = true;      ///< Trace shadow rays. Default on.

@@ -8,7 +8,10 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <vector>
 
 using namespace whitted;
 
@@ -254,7 +257,10 @@ TEST(Integrator, OpaqueSceneLeavesOutSecondaryMachinery) {
   EXPECT_GT(fs.rays.shadow, 0u);
 }
 
-// The per-frame error estimate bounds the real difference to a deep, cutoff-free reference at every pixel.
+// The per-frame error estimate bounds the real difference to a deep, cutoff-free reference at every pixel: the
+// truncation bound >= the largest channel difference of the clamped colours (the estimate's units), pixel by pixel.
+// Negative control: the same check on a copy of the bound lowered at one pixel only (the pixel of the largest
+// error, to 0) reports exactly that pixel, while an image-wide RMS comparison still passes on that copy.
 TEST(Integrator, ErrorEstimateBoundsTrueError) {
   Scene s;
   CameraSpec cs;
@@ -269,15 +275,38 @@ TEST(Integrator, ErrorEstimateBoundsTrueError) {
   FrameBuffer a, b;
   render(s, cam, ref, 80, 60, a);
   FrameStats fs = render(s, cam, cheap, 80, 60, b);
+  std::vector<float> diff(a.color.size());
   double err2 = 0.0;
-  for (std::size_t i = 0; i < a.color.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      double d = std::abs(std::min(1.0f, a.color[i][c]) - std::min(1.0f, b.color[i][c]));
-      err2 += d * d / 3.0;
-    }
-  double rms = std::sqrt(err2 / double(a.color.size()));
+  std::size_t worst = 0;
+  for (std::size_t i = 0; i < a.color.size(); ++i) {
+    for (int c = 0; c < 3; ++c)
+      diff[i] = std::max(diff[i], std::abs(std::clamp(a.color[i][c], 0.0f, 1.0f) - std::clamp(b.color[i][c], 0.0f, 1.0f)));
+    err2 += double(diff[i]) * diff[i];
+    if (diff[i] > diff[worst]) worst = i;
+  }
+  const double rms = std::sqrt(err2 / double(a.color.size()));
   EXPECT_GT(rms, 1e-3);  // the cheap settings really do lose something
+  // Pixels whose bound is under the measured error (1e-5: float rounding of the two renders)
+  auto under = [&](const std::vector<float>& bound) {
+    std::vector<std::size_t> out;
+    for (std::size_t i = 0; i < diff.size(); ++i)
+      if (bound[i] + 1e-5f < diff[i]) out.push_back(i);
+    return out;
+  };
+  const std::vector<std::size_t> missed = under(b.truncation);
+  EXPECT_TRUE(missed.empty()) << missed.size() << " pixels under, first " << missed.front() << ": bound "
+                              << b.truncation[missed.front()] << " < measured " << diff[missed.front()];
   EXPECT_GE(fs.truncation.rms, rms);
+  // Negative control
+  ASSERT_GT(diff[worst], 0.05f);
+  std::vector<float> lowered = b.truncation;
+  lowered[worst] = 0.0f;
+  const std::vector<std::size_t> caught = under(lowered);
+  ASSERT_EQ(caught.size(), 1u);
+  EXPECT_EQ(caught[0], worst);
+  double lowered2 = 0.0;
+  for (float t : lowered) lowered2 += double(t) * t;
+  EXPECT_GE(std::sqrt(lowered2 / double(lowered.size())), rms);  // the RMS comparison alone misses it
 }
 
 // Over a transparent background (alpha 0, as in VTK's layered renderers) a translucent quad with kt = 0.75 gets

@@ -62,9 +62,11 @@ LeafData leafData(const typename Shape::Geometry& g) {
 }
 
 /// Hits within kTieRelative * t of the best one count as the same distance: the lower (instance, primitive) wins,
-/// as the first-drawn surface wins OpenGL's depth test, so coplanar overlapping surfaces never speckle. The rule
-/// does not depend on the order in which the hits are met (so a packet, which visits leaves in another order, finds
-/// the single ray's hit).
+/// so coplanar overlapping surfaces never speckle. This is a fixed rule, not OpenGL's draw order: instance ids
+/// follow the order in which the caller added the instances (the VTK adapter: the order actors were first
+/// converted), so which of two coplanar surfaces shows may differ from OpenGL's image (README, "Coplanar
+/// surfaces"). The rule does not depend on the order in which the hits are met (so a packet, which visits leaves
+/// in another order, finds the single ray's hit).
 constexpr double kTieRelative = 1e-10;
 
 /// Leaf test of a closest-hit walk: primitive slots [first, first+count) of instance's object against the

@@ -44,8 +44,7 @@ void SkyboxEnvironment(vtkSkybox* skybox, vtkTexture* texture, vtkWhittedTexture
   {
     if (projection == vtkSkybox::StereoSphere)
     {
-      warnings.WarnOnce(skybox, vtkWhittedWarnings::StereoSkybox,
-        "stereo skybox: reflections see the whole image as one equirectangular panorama");
+      warnings.Warn(skybox, vtkWhittedWarnings::StereoSkybox);
     }
     env.projection = Projection::Sphere;
     env.faces[0] = textures.Get(texture);
@@ -67,15 +66,12 @@ void SkyboxEnvironment(vtkSkybox* skybox, vtkTexture* texture, vtkWhittedTexture
     }
     else
     {
-      warnings.WarnOnce(skybox, vtkWhittedWarnings::SkyboxCubeFaces,
-        "cube-map skybox without six image faces: reflections see the background colour");
+      warnings.Warn(skybox, vtkWhittedWarnings::SkyboxCubeFaces);
     }
   }
   else
   {
-    warnings.WarnOnce(skybox, vtkWhittedWarnings::FloorSkybox,
-      "floor skybox: reflections see the background colour (only sphere and cube skyboxes "
-      "are sampled by direction)");
+    warnings.Warn(skybox, vtkWhittedWarnings::FloorSkybox);
   }
 }
 

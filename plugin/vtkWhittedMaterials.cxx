@@ -147,11 +147,7 @@ whitted::Material ConvertProperty(vtkActor* actor, vtkProperty* p, vtkProperty* 
   if (front->GetInterpolation() == VTK_PBR)
   {
     MapPBR(p, m);
-    warnings.WarnOnce(actor, vtkWhittedWarnings::PBRInterpolation,
-      "PBR interpolation is approximated by a Whitted material: base colour as diffuse colour, "
-      "(1 - Roughness) x (Metallic x base colour + (1 - Metallic) x F0(BaseIOR)) as reflectance, "
-      "EmissiveFactor as ambient term with an emissive texture (not sampled); roughness blur, "
-      "anisotropy, normal and ORM textures are not traced");
+    warnings.Warn(actor, vtkWhittedWarnings::PBRInterpolation);
   }
   if (vtkInformation* info = p->GetInformation())
   {

@@ -362,9 +362,7 @@ struct vtkWhittedSceneConverter::Internals
           }
           if (!IsTraceable(actor))
           {
-            this->Warnings.WarnOnce(actor, vtkWhittedWarnings::UntraceableAssemblyPart,
-              "part of an assembly that the ray tracer cannot draw (not a surface polydata actor): "
-              "skipped");
+            this->Warnings.Warn(actor, vtkWhittedWarnings::UntraceableAssemblyPart);
             continue;
           }
           leaves.push_back(Leaf{ actor, node->GetMatrix(), seen[actor]++ });
@@ -428,9 +426,7 @@ struct vtkWhittedSceneConverter::Internals
     {
       if (!whitted::isFinite(Vec3(matrix[c])) || !std::isfinite(matrix[c][3]))
       {
-        this->Warnings.WarnOnce(actor, vtkWhittedWarnings::NonFiniteMatrix,
-          "its matrix (Position, Orientation, Scale, Origin, UserMatrix) has NaN or infinite "
-          "entries: not drawn");
+        this->Warnings.Warn(actor, vtkWhittedWarnings::NonFiniteMatrix);
         return false;
       }
     }
@@ -442,9 +438,7 @@ struct vtkWhittedSceneConverter::Internals
       !(whitted::isFinite(inverse[0]) && whitted::isFinite(inverse[1]) &&
         whitted::isFinite(inverse[2])))
     {
-      this->Warnings.WarnOnce(actor, vtkWhittedWarnings::SingularMatrix,
-        "its matrix is singular (e.g. a zero Scale flattening it): the ray tracer cannot draw "
-        "it");
+      this->Warnings.Warn(actor, vtkWhittedWarnings::SingularMatrix);
       return false;
     }
     return true;
@@ -573,8 +567,7 @@ struct vtkWhittedSceneConverter::Internals
     vtkProperty* p = actor->GetProperty();
     if (mapper->GetUseSourceTableTree())
     {
-      this->Warnings.WarnOnce(actor, vtkWhittedWarnings::GlyphSourceTableTree,
-        "glyphs from a source table tree are not traced: drawn by OpenGL");
+      this->Warnings.Warn(actor, vtkWhittedWarnings::GlyphSourceTableTree);
       return false;
     }
     if (!mapper->GetStatic())
@@ -771,16 +764,7 @@ struct vtkWhittedSceneConverter::Internals
         });
     if (problem != vtkWhittedGlyphConverter::None)
     {
-      static const char* const what[] = { "",
-        "its orientation array does not have 3 components (4 for quaternions)",
-        "its mask array has more than one component",
-        "scaling by components needs a scale array of 3 components",
-        "one of its orientation, mask, source index or scale arrays has fewer tuples than the dataset has "
-        "points" };
-      this->Warnings.WarnOnce(actor, vtkWhittedWarnings::GlyphArrays,
-        std::string(what[problem]) + ": as in VTK, " +
-          (problem == vtkWhittedGlyphConverter::ScaleComponents ? "glyphs are not scaled"
-                                                                : "no glyph is drawn"));
+      this->Warnings.WarnGlyphArrays(actor, problem);
     }
     // Surplus instances of the last placement: hidden, their ids reused later
     for (int s = 0; s < numberOfSources; ++s)

@@ -1,5 +1,7 @@
 #include "vtkWhittedWarnings.h"
 
+#include "vtkWhittedGlyphConverter.h"
+
 #include "vtkObject.h"
 #include "vtkProp.h"
 #include "vtkProperty.h"
@@ -19,6 +21,77 @@ void vtkWhittedWarnings::WarnOnce(vtkProp* prop, uint32_t warning, const std::st
     vtkWarningWithObjectMacro(
       this->Owner, << "Actor " << prop << " (" << prop->GetClassName() << "): " << message);
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkWhittedWarnings::Warn(vtkProp* prop, Warning warning)
+{
+  const char* message = nullptr;
+  switch (warning)
+  {
+    case PBRInterpolation:
+      message = "PBR interpolation is approximated by a Whitted material: base colour as diffuse colour, "
+                "(1 - Roughness) x (Metallic x base colour + (1 - Metallic) x F0(BaseIOR)) as reflectance, "
+                "EmissiveFactor as ambient term with an emissive texture (not sampled); roughness blur, "
+                "anisotropy, normal and ORM textures are not traced";
+      break;
+    case UntraceableAssemblyPart:
+      message = "part of an assembly that the ray tracer cannot draw (not a surface polydata actor): "
+                "skipped";
+      break;
+    case NonFiniteMatrix:
+      message = "its matrix (Position, Orientation, Scale, Origin, UserMatrix) has NaN or infinite "
+                "entries: not drawn";
+      break;
+    case SingularMatrix:
+      message = "its matrix is singular (e.g. a zero Scale flattening it): the ray tracer cannot draw "
+                "it";
+      break;
+    case GlyphSourceTableTree:
+      message = "glyphs from a source table tree are not traced: drawn by OpenGL";
+      break;
+    case StereoSkybox:
+      message = "stereo skybox: reflections see the whole image as one equirectangular panorama";
+      break;
+    case SkyboxCubeFaces:
+      message = "cube-map skybox without six image faces: reflections see the background colour";
+      break;
+    case FloorSkybox:
+      message = "floor skybox: reflections see the background colour (only sphere and cube skyboxes "
+                "are sampled by direction)";
+      break;
+    default:
+      break;
+  }
+  if (message)
+  {
+    this->WarnOnce(prop, warning, message);
+  }
+  else
+  {
+    vtkErrorWithObjectMacro(this->Owner, << "vtkWhittedWarnings::Warn: warning " << warning
+                                         << " has parameters: use its own Warn function");
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkWhittedWarnings::WarnGlyphArrays(vtkProp* actor, int problem)
+{
+  static const char* const what[] = { "",
+    "its orientation array does not have 3 components (4 for quaternions)",
+    "its mask array has more than one component",
+    "scaling by components needs a scale array of 3 components",
+    "one of its orientation, mask, source index or scale arrays has fewer tuples than the dataset has "
+    "points" };
+  static_assert(vtkWhittedGlyphConverter::ShortArray == 4, "one message per glyph problem");
+  if (problem <= vtkWhittedGlyphConverter::None || problem > vtkWhittedGlyphConverter::ShortArray)
+  {
+    return;
+  }
+  this->WarnOnce(actor, GlyphArrays,
+    std::string(what[problem]) + ": as in VTK, " +
+      (problem == vtkWhittedGlyphConverter::ScaleComponents ? "glyphs are not scaled"
+                                                            : "no glyph is drawn"));
 }
 
 //------------------------------------------------------------------------------

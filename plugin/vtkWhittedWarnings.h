@@ -5,7 +5,8 @@
  * Private to the Whitted module. One enum names every warning the conversion can give; a warning
  * is printed (through the owner's vtkWarningWithObjectMacro) the first time a prop meets it, and
  * never again for that prop, so a scene with bad input warns once, not every frame. Every message
- * text lives here, beside its enum value.
+ * text lives in vtkWhittedWarnings.cxx (Warn's table and the Warn* functions), found by its enum
+ * value; callers name the warning and pass only the values a message quotes.
  *
  * @sa vtkWhittedSceneConverter vtkWhittedPolyDataConverter
  */
@@ -78,8 +79,17 @@ public:
   /// Object the warnings are printed for (the pass).
   void SetOwner(vtkObject* owner) { this->Owner = owner; }
 
-  /// Prints "Actor <prop> (<class>): message" unless prop has had this warning before.
-  void WarnOnce(vtkProp* prop, uint32_t warning, const std::string& message);
+  /**
+   * A warning whose text is fixed (PBRInterpolation, UntraceableAssemblyPart, NonFiniteMatrix,
+   * SingularMatrix, GlyphSourceTableTree, StereoSkybox, SkyboxCubeFaces, FloorSkybox), once per prop.
+   */
+  void Warn(vtkProp* prop, Warning warning);
+
+  /**
+   * GlyphArrays: the vtkWhittedGlyphConverter::Problem (not None) that kept actor's glyphs from
+   * being placed or scaled.
+   */
+  void WarnGlyphArrays(vtkProp* actor, int problem);
 
   /**
    * The problems found in one converted geometry of actor (drawn with property), each once;
@@ -95,6 +105,9 @@ public:
   void WarnMaterial(vtkProp* actor, uint32_t fixed, float energy);
 
 private:
+  /// Prints "Actor <prop> (<class>): message" unless prop has had this warning before.
+  void WarnOnce(vtkProp* prop, uint32_t warning, const std::string& message);
+
   vtkObject* Owner = nullptr;
   std::set<std::pair<vtkProp*, uint32_t>> Warned;
 };

@@ -12,7 +12,10 @@
 // table; the vtkProperty (representation, spheres / tubes, sizes, interpolation, colours and
 // coefficients with any values), the Whitted information keys with any length and values; actor
 // transforms, a texture, instancing, lights, background; a second conversion after a change.
-// Invariant: no crash, no sanitizer report, every pixel finite, every depth in [0, 1].
+// Invariant: no crash, no sanitizer report, and the frame checks of fuzz_checks.h: no safety net catches
+// anything (the depth net: with the camera fitted to the scene's bounds, where those are finite, at most 1e30 and
+// at least 1e-6 of their distance from the origin), colours finite and >= 0, depths finite in [0, 1], exactly 1
+// where a pixel's camera ray hits nothing and (fitted camera) the hit's GL depth where it hits.
 #include "vtkWhittedMatrix.h"
 #include "vtkWhittedPass.h"  // the Whitted information keys (defined below: the module is not linked)
 #include "vtkWhittedSceneConverter.h"
@@ -54,6 +57,7 @@
 #include "renderer.h"
 #include "scene.h"
 #include "fuzz_bytes.h"
+#include "fuzz_checks.h"
 
 #include <cmath>
 #include <cstdint>
@@ -504,14 +508,19 @@ void RandomChange(Reader& r, vtkPolyData* poly, vtkActor* actor) {
   }
 }
 
-/// A camera looking at the scene's bounds, or one with any values.
-void RandomCamera(Reader& r, const whitted::Bounds3& b, vtkCamera* cam) {
+/// A camera looking at the scene's bounds, or one with any values. True for a fitted camera in the valid domain
+/// of fuzz_checks.h: bounds finite, diagonal d in (1e-30, 1e30] and at least 1e-6 of the centre's largest
+/// coordinate (the camera then sees the whole box between 1.58 d and 2.58 d, inside its clipping range
+/// [0.1 d, 5 d], so only a hit point off its surface by about d could leave [0, 1] in depth).
+bool RandomCamera(Reader& r, const whitted::Bounds3& b, vtkCamera* cam) {
   if (r.bit() && b.valid() && std::isfinite(b.diagonal()) && b.diagonal() > 0.0) {
     const whitted::Vec3 c = b.center();
     const double d = b.diagonal();
     cam->SetFocalPoint(c.x, c.y, c.z);
     cam->SetPosition(c.x + 0.3 * d, c.y + 0.5 * d, c.z + 2.0 * d);
     cam->SetClippingRange(0.1 * d, 5.0 * d);
+    const double extent = std::max({ std::abs(c.x), std::abs(c.y), std::abs(c.z) });
+    return whitted::isFinite(c) && d > 1e-30 && d <= 1e30 && d >= 1e-6 * extent;
   } else {
     cam->SetPosition(r.value(), r.value(), r.value());
     cam->SetFocalPoint(r.value(), r.value(), r.value());
@@ -521,10 +530,11 @@ void RandomCamera(Reader& r, const whitted::Bounds3& b, vtkCamera* cam) {
     cam->SetParallelProjection(r.bit());
     cam->SetParallelScale(r.value());
   }
+  return false;
 }
 
-/// Renders 8x8 (settings from the input) and aborts on a non-finite pixel or a depth outside [0, 1].
-void RenderAndCheck(Reader& r, const whitted::Scene& scene, vtkCamera* cam,
+/// Renders 8x8 (settings from the input) and checks the frame (fuzz_checks.h; validCamera: see RandomCamera).
+void RenderAndCheck(Reader& r, const whitted::Scene& scene, vtkCamera* cam, bool validCamera,
                     const vtkWhittedSceneConverter::Result& result) {
   const whitted::Mat4 worldToClip = vtkWhittedToMat4(cam->GetCompositeProjectionTransformMatrix(1.0, -1, 1));
   whitted::RenderSettings rs;
@@ -538,21 +548,9 @@ void RenderAndCheck(Reader& r, const whitted::Scene& scene, vtkCamera* cam,
   cam->GetPosition(eye);
   rs.integrator.eye = whitted::Vec3(eye[0], eye[1], eye[2]);
   whitted::FrameBuffer fb;
-  whitted::render(scene, whitted::Camera::fromViewProjection(worldToClip), rs, 8, 8, fb);
-  for (const whitted::Color4& c : fb.color) {
-    for (int k = 0; k < 4; ++k) {
-      if (!std::isfinite(c[k])) {
-        std::fprintf(stderr, "non-finite pixel %g %g %g %g\n", c.x, c.y, c.z, c.w);
-        std::abort();
-      }
-    }
-  }
-  for (float d : fb.depth) {
-    if (!(d >= 0.0f && d <= 1.0f)) {
-      std::fprintf(stderr, "depth out of range %g\n", d);
-      std::abort();
-    }
-  }
+  const whitted::Camera camera = whitted::Camera::fromViewProjection(worldToClip);
+  const whitted::FrameStats fs = whitted::render(scene, camera, rs, 8, 8, fb);
+  whitted_fuzz::checkFrame(scene, camera, rs.samplesPerPixel, validCamera, fs, fb);
 }
 
 }  // namespace
@@ -598,7 +596,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   whitted::Scene& scene = converter.GetScene();
   scene.commit();
   vtkNew<vtkCamera> cam;
-  RandomCamera(r, scene.bounds(), cam);
-  RenderAndCheck(r, scene, cam, result);
+  const bool validCamera = RandomCamera(r, scene.bounds(), cam);
+  RenderAndCheck(r, scene, cam, validCamera, result);
+  whitted_fuzz::endOfInput();
   return 0;
 }

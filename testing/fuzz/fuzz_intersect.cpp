@@ -1,10 +1,15 @@
 // libFuzzer target: the intersection routines and BVH on arbitrary doubles (NaN, Inf, denormals, huge values).
 // Invariants: no crash, no sanitizer report; any reported hit has t inside the ray's (tMin, tMax) and finite
-// barycentrics that sum to <= 1 (+ rounding); the BVH-accelerated closest hit equals brute force.
+// barycentrics that sum to <= 1 (+ rounding); the BVH-accelerated closest hit equals brute force; the mesh seen
+// at 8x8 from the ray's origin along its direction passes the frame checks of fuzz_checks.h (the depth net and the
+// hit depths where origin, direction and vertices are finite and within 1e3, the valid domain there).
+#include "renderer.h"
 #include "scene.h"
 #include "shapes.h"
 #include "fuzz_bytes.h"
+#include "fuzz_checks.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -54,11 +59,28 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     m.positions.push_back(r.v3());
     m.triangles.push_back({b, b + 1, b + 2});
   }
-  if (m.triangles.empty()) return 0;
+  if (m.triangles.empty()) {
+    whitted_fuzz::endOfInput();
+    return 0;
+  }
   TriangleMesh copy = m;
   Scene scene;
   scene.addInstance(scene.addMesh(std::move(copy)), Mat4(1.0), scene.addMaterial(Material{}));
   scene.commit();
+  // The mesh seen from the ray's origin along its direction, a perspective camera (near 0.5, far 5e3)
+  {
+    auto tame = [](const Vec3& v) { return isFinite(v) && std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}) <= 1e3; };
+    bool valid = tame(ray.origin) && tame(ray.dir) && glm::length(ray.dir) >= 1e-3;
+    for (const Vec3& p : m.positions) valid = valid && tame(p);
+    const Vec3 dir = ray.dir / glm::length(ray.dir);
+    const Vec3 up = std::abs(dir.y) < 0.9 ? Vec3(0.0, 1.0, 0.0) : Vec3(1.0, 0.0, 0.0);
+    const Camera camera = Camera::perspective(ray.origin, ray.origin + dir, up, 60.0, 1.0, 0.5, 5e3);
+    RenderSettings rs;
+    rs.threads = 1;
+    FrameBuffer fb;
+    const FrameStats fs = render(scene, camera, rs, 8, 8, fb);
+    whitted_fuzz::checkFrame(scene, camera, 1, valid, fs, fb);
+  }
   Hit hit;
   bool found = scene.intersect(ray, hit);
   double best = kInfinity;
@@ -79,8 +101,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   };
   bool inDomain = tame(ray.origin) && tame(ray.dir);
   for (const Vec3& p : m.positions) inDomain = inDomain && tame(p);
-  if (!inDomain) return 0;
-  CHECK(found == std::isfinite(best));
-  if (found) CHECK(std::abs(hit.t - best) <= 1e-10 * std::abs(best));
+  if (inDomain) {
+    CHECK(found == std::isfinite(best));
+    if (found) CHECK(std::abs(hit.t - best) <= 1e-10 * std::abs(best));
+  }
+  whitted_fuzz::endOfInput();
   return 0;
 }

@@ -1,8 +1,17 @@
 // libFuzzer target: a whole scene built from arbitrary bytes (meshes with NaN/Inf/degenerate data, bad indices,
 // spheres and tubes with any radius, arbitrary materials and lights, random instance transforms and camera), then
-// committed and rendered at 8x8. Invariant: no crash, no sanitizer report, every pixel finite.
+// committed and rendered at 8x8. Each input is built and rendered twice:
+// - as given (any doubles, any camera matrix): no crash, no sanitizer report, and the checks of fuzz_checks.h
+//   for any camera (three safety nets catch nothing, colours finite and >= 0, depths finite in [0, 1] and exactly
+//   1 where the pixel's camera ray hits nothing);
+// - tamed into the valid domain of fuzz_checks.h (the same bytes, doubles mapped to within 1e3, transforms
+//   rotation x scale x translation, a vtkCamera-like camera): all four safety nets catch nothing and depth agrees
+//   with an independent intersection where the ray hits too.
 #include "fuzz_bytes.h"
+#include "fuzz_checks.h"
 #include "renderer.h"
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <cstdint>
 #include <cstdio>
@@ -12,7 +21,19 @@
 using namespace whitted;
 
 namespace {
-using Reader = whitted_fuzz::Bytes;
+/// The input's values; tame: doubles mapped into the valid domain (fuzz_checks.h), non-finite ones to 0.
+struct Reader : whitted_fuzz::Bytes {
+  bool tame = false;
+  Reader(const uint8_t* data, size_t size, bool t) : Bytes(data, size), tame(t) {}
+  double d() {
+    const double x = Bytes::d();
+    return !tame ? x : std::isfinite(x) ? std::fmod(x, 1e3) : 0.0;
+  }
+  Vec3 v3() {  // named locals: the three reads happen in this order
+    double a = d(), b = d(), c = d();
+    return Vec3(a, b, c);
+  }
+};
 
 /// One object: a triangle mesh (optional normals, colours, texture coordinates), a sphere set or a tube set.
 uint32_t randomGeometry(Reader& r, Scene& scene) {
@@ -73,13 +94,19 @@ uint32_t randomMaterial(Reader& r, Scene& scene) {
   return scene.addMaterial(m);
 }
 
-/// Identity, or an affine transform with any values.
+/// Identity, or an affine transform with any values (tame: a translation within 1e3 times a rotation times
+/// scales in [1e-3, 1e3], from the same 12 values).
 Mat4 randomTransform(Reader& r) {
   Mat4 xf(1.0);
   if (r.get<uint8_t>() & 1)
     for (int c = 0; c < 4; ++c)
       for (int k = 0; k < 3; ++k) xf[c][k] = r.d();
-  return xf;
+  if (!r.tame || xf == Mat4(1.0)) return xf;
+  const Vec3 axis(xf[0]), scale(xf[1]), move(xf[3]);
+  Mat4 t = glm::translate(Mat4(1.0), move);
+  if (glm::length(axis) > 0.0) t = glm::rotate(t, xf[2][0], glm::normalize(axis));
+  return glm::scale(t, Vec3(std::pow(10.0, scale.x / 1e3 * 3.0), std::pow(10.0, scale.y / 1e3 * 3.0),
+                            std::pow(10.0, scale.z / 1e3 * 3.0)));
 }
 
 void randomLights(Reader& r, Scene& scene) {
@@ -98,13 +125,16 @@ void randomLights(Reader& r, Scene& scene) {
   }
 }
 
-/// Renders 8x8 with any view-projection and settings; aborts on a non-finite pixel, a depth outside [0, 1] or a
-/// safety-net catch.
+/// Renders 8x8 with the input's camera and settings and checks the frame (fuzz_checks.h). As given: any
+/// view-projection matrix; tamed: a vtkCamera-like camera from the same values.
 void renderAndCheck(Reader& r, const Scene& scene) {
   Mat4 vp(1.0);
+  double v[16];
   for (int c = 0; c < 4; ++c)
-    for (int k = 0; k < 4; ++k) vp[c][k] = r.d();
-  if (r.get<uint8_t>() & 1) vp = Mat4(1.0);
+    for (int k = 0; k < 4; ++k) vp[c][k] = v[c * 4 + k] = r.Bytes::d();
+  const uint8_t cameraBits = r.get<uint8_t>();
+  if (cameraBits & 1) vp = Mat4(1.0);
+  const Camera camera = r.tame ? whitted_fuzz::tameCamera(v, cameraBits & 2) : Camera::fromViewProjection(vp);
   RenderSettings rs;
   rs.threads = 1;
   rs.samplesPerPixel = 1 + r.get<uint8_t>() % 3;
@@ -112,31 +142,12 @@ void renderAndCheck(Reader& r, const Scene& scene) {
   rs.integrator.fresnel = r.get<uint8_t>() & 1;
   rs.integrator.beerLambert = r.get<uint8_t>() & 1;
   FrameBuffer fb;
-  const FrameStats fs = render(scene, Camera::fromViewProjection(vp), rs, 8, 8, fb);
-  // The frame's safety nets zero non-finite values: the checks below could never fail on their own, so what the
-  // nets caught must be zero too (the scene was sanitised at commit; nothing invalid may remain for them)
-  if (fs.rays.nonFiniteSamples + fs.rays.nonFinitePixels != 0) {
-    std::fprintf(stderr, "safety nets caught %llu non-finite samples, %llu non-finite pixels\n",
-                 (unsigned long long)fs.rays.nonFiniteSamples, (unsigned long long)fs.rays.nonFinitePixels);
-    std::abort();
-  }
-  for (const Color4& c : fb.color)
-    for (int k = 0; k < 4; ++k)
-      if (!std::isfinite(c[k])) {
-        std::fprintf(stderr, "non-finite pixel %g %g %g %g\n", c.x, c.y, c.z, c.w);
-        std::abort();
-      }
-  for (float dpt : fb.depth)
-    if (!(dpt >= 0.0f && dpt <= 1.0f)) {
-      std::fprintf(stderr, "depth out of range %g\n", dpt);
-      std::abort();
-    }
+  const FrameStats fs = render(scene, camera, rs, 8, 8, fb);
+  whitted_fuzz::checkFrame(scene, camera, rs.samplesPerPixel, r.tame, fs, fb);
 }
 
-}  // namespace
-
-extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  Reader r{data, size};
+void buildRenderAndCheck(const uint8_t* data, size_t size, bool tame) {
+  Reader r{data, size, tame};
   Scene scene;
   int objects = r.get<uint8_t>() % 4 + 1;
   for (int o = 0; o < objects; ++o) {
@@ -148,5 +159,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   scene.background = r.col();
   scene.commit();
   renderAndCheck(r, scene);
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  buildRenderAndCheck(data, size, false);
+  buildRenderAndCheck(data, size, true);
+  whitted_fuzz::endOfInput();
   return 0;
 }

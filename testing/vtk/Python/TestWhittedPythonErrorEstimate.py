@@ -118,6 +118,11 @@ check(measured.max() > 0.05, "depth 3 / threshold 0.05 lose something: largest p
 under = int(np.sum(trunc + 1e-5 < measured))
 check(under == 0, "truncation bound under the measured error at %d pixels (bound RMS %.4f, measured RMS %.4f)"
       % (under, np.sqrt(np.mean(trunc ** 2)), np.sqrt(np.mean(measured ** 2))))
+# Negative control of that per-pixel check: the bound zeroed at the pixel of the largest error is caught there alone
+lowered = trunc.copy()
+lowered[np.argmax(measured)] = 0.0
+caught = np.flatnonzero(lowered + 1e-5 < measured)
+check(list(caught) == [int(np.argmax(measured))], "a bound lowered at one pixel is caught there: %s" % caught[:5])
 rms, p95, mx = st.GetTruncationError()
 check(abs(rms - np.sqrt(np.mean(trunc ** 2))) < 1e-6 and abs(mx - trunc.max()) < 1e-6 and rms <= p95 + 1e-3 <= mx + 1e-3,
       "statistics TruncationError %.4f %.4f %.4f match the image" % (rms, p95, mx))
