@@ -4,7 +4,7 @@
 #include "vtkProp.h"
 #include "vtkProperty.h"
 
-#include "material.h"
+#include "scene/material.h"
 
 #include <cstdio>
 

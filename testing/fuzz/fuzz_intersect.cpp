@@ -1,8 +1,8 @@
 // libFuzzer target: the intersection routines and BVH on arbitrary doubles (NaN, Inf, denormals, huge values).
 // Invariants: no crash, no sanitizer report; any reported hit has t inside the ray's (tMin, tMax) and finite
 // barycentrics that sum to <= 1 (+ rounding); the BVH-accelerated closest hit equals brute force.
-#include "scene.h"
-#include "shapes.h"
+#include "scene/scene.h"
+#include "geometry/shapes.h"
 #include "fuzz_bytes.h"
 
 #include <cstdint>

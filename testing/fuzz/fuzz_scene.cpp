@@ -2,7 +2,7 @@
 // spheres and tubes with any radius, arbitrary materials and lights, random instance transforms and camera), then
 // committed and rendered at 8x8. Invariant: no crash, no sanitizer report, every pixel finite.
 #include "fuzz_bytes.h"
-#include "renderer.h"
+#include "image/renderer.h"
 
 #include <cstdint>
 #include <cstdio>
