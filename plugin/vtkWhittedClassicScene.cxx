@@ -18,7 +18,7 @@
 #include "vtkSphereSource.h"
 #include "vtkUnsignedCharArray.h"
 
-#include "scenes.h"
+#include "scenes/scenes.h"
 
 #include <cmath>
 

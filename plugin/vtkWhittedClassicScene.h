@@ -5,7 +5,7 @@
  * A red/yellow checkerboard floor (vtkPlaneSource with direct unsigned-char cell colours), a mirror
  * sphere and a glass sphere (vtkSphereSource, Whitted keys on their properties), one positional
  * light, the background and the camera. Built from the core's one description of the scene
- * (whitted::classicSceneDescription() in core/scenes.h), which the core's built-in "classic" scene,
+ * (whitted::classicSceneDescription() in core/scenes/scenes.h), which the core's built-in "classic" scene,
  * whitted_render and the benchmark trace too. Used by the demo (whitted.scenes.classic_scene), and
  * by the C++ and Python regression tests, which share one baseline.
  * @code

@@ -10,7 +10,7 @@
 #include "vtkTextureObject.h"
 #include "vtk_glew.h"
 
-#include "renderer.h"
+#include "image/renderer.h"
 
 #include <string>
 

@@ -10,7 +10,7 @@
 #include "vtkTexture.h"
 #include "vtkVersionMacros.h"
 
-#include "scene.h"
+#include "scene/scene.h"
 
 #include <cmath>
 

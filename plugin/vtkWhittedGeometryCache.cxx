@@ -15,7 +15,7 @@
 #include "vtkScalarsToColors.h"
 #include "vtkStringArray.h"
 
-#include "scene.h"
+#include "scene/scene.h"
 
 #include <algorithm>
 #include <cstring>

@@ -28,7 +28,7 @@
 
 #include "vtkType.h" // for vtkIdType
 
-#include "math.h" // for whitted::Mat4
+#include "util/math.h" // for whitted::Mat4
 
 #include <functional> // for std::function
 

@@ -12,7 +12,7 @@
 #ifndef vtkWhittedLights_h
 #define vtkWhittedLights_h
 
-#include "light.h" // for whitted::Light
+#include "scene/light.h" // for whitted::Light
 
 #include <vector> // for std::vector
 

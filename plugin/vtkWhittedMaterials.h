@@ -18,7 +18,7 @@
 #ifndef vtkWhittedMaterials_h
 #define vtkWhittedMaterials_h
 
-#include "material.h" // for whitted::Material
+#include "scene/material.h" // for whitted::Material
 
 class vtkActor;
 class vtkProperty;

@@ -11,7 +11,7 @@
 
 #include "vtkMatrix4x4.h"
 
-#include "math.h" // for whitted::Mat4
+#include "util/math.h" // for whitted::Mat4
 
 /**
  * vtkMatrix4x4 is row-major with column vectors (p' = M p); glm is column-major: element (row,

@@ -35,10 +35,10 @@
 #include "vtkVolumetricPass.h"
 #include "vtkWeakPointer.h"
 
-#include "camera.h"
-#include "renderer.h"
-#include "report.h"
-#include "scene.h"
+#include "shading/camera.h"
+#include "image/renderer.h"
+#include "image/report.h"
+#include "scene/scene.h"
 
 #include <algorithm>
 #include <array>

@@ -19,7 +19,7 @@
 #include "vtkTexture.h"
 #include "vtkUnsignedCharArray.h"
 
-#include "parallel.h" // whitted::WorkerPool, whitted::hardwareThreads
+#include "util/parallel.h" // whitted::WorkerPool, whitted::hardwareThreads
 
 #include <algorithm>
 #include <cmath>

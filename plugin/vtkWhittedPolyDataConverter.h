@@ -35,8 +35,8 @@
 #include "vtkProperty.h" // for VTK_SURFACE
 #include "vtkType.h"     // for vtkIdType
 
-#include "material.h" // whitted::Texture
-#include "shapes.h"   // whitted::TriangleMesh, SphereSet, TubeSet
+#include "geometry/texture.h" // whitted::Texture
+#include "geometry/shapes.h"   // whitted::TriangleMesh, SphereSet, TubeSet
 
 #include <string> // for std::string
 #include <tuple>  // for std::tuple

@@ -42,7 +42,7 @@
 #include "vtkTexture.h"
 #include "vtkUnsignedCharArray.h"
 
-#include "scene.h"
+#include "scene/scene.h"
 
 #include <algorithm>
 #include <array>

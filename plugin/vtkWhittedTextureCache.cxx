@@ -7,7 +7,7 @@
 #include "vtkScalarsToColors.h"
 #include "vtkTexture.h"
 
-#include "scene.h"
+#include "scene/scene.h"
 
 #include <algorithm>
 #include <utility>

@@ -6,7 +6,7 @@
 #include "vtkProp.h"
 #include "vtkProperty.h"
 
-#include "material.h"
+#include "scene/material.h"
 
 #include <cstdio>
 

@@ -29,7 +29,7 @@ class vtkWhittedWarnings
 {
 public:
   /// Every warning of the conversion, one bit each. Material fixes combine bits 0-7 as
-  /// whitted::sanitizeMaterial returns them (core/material.h) and are said once per combination.
+  /// whitted::sanitizeMaterial returns them (core/scene/material.h) and are said once per combination.
   enum Warning : uint32_t
   {
     // A material value out of range or not finite, clamped (whitted::sanitizeMaterial bits)

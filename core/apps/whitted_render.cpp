@@ -3,9 +3,9 @@
 //                  [--threads 0] [--no-shadows] [--no-reflections] [--no-refractions] [--fresnel]
 //                  [--target-error E] [--time-budget S] (progressive refinement by the error estimate)
 //                  [--repeat 1] [--out image.png] [--depth-out depth.raw]
-#include "image.h"
-#include "report.h"
-#include "scenes.h"
+#include "image/image.h"
+#include "image/report.h"
+#include "scenes/scenes.h"
 
 #include <algorithm>
 #include <cstdio>

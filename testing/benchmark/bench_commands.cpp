@@ -1,6 +1,6 @@
 #include "bench_commands.h"
 
-#include "image.h"
+#include "image/image.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -4,7 +4,7 @@
 
 #include "bench_common.h"
 #include "bench_scenes.h"
-#include "renderer.h"
+#include "image/renderer.h"
 
 #include <string>
 #include <vector>

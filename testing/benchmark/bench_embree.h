@@ -6,7 +6,7 @@
 
 #ifdef WHITTED_HAVE_EMBREE
 
-#include "scene.h"
+#include "scene/scene.h"
 
 #include <embree3/rtcore.h>
 

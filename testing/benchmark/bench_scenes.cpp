@@ -1,6 +1,6 @@
 #include "bench_scenes.h"
 
-#include "stiff_scenes.h"
+#include "scenes/stiff_scenes.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +13,7 @@ namespace whitted::bench {
 namespace {
 
 double toFloat(double x) {
-  return whitted::roundToFloat(x);  // not double(float(x)): GCC 12 folds that to x here (core/math.h)
+  return whitted::roundToFloat(x);  // not double(float(x)): GCC 12 folds that to x here (core/util/math.h)
 }
 Vec3 toFloat(const Vec3& v) {
   return Vec3(toFloat(v.x), toFloat(v.y), toFloat(v.z));
@@ -387,7 +387,7 @@ bool buildNamed(const std::string& name, const std::vector<std::string>& dataDir
     out.description = "glass and mirror balls between two facing mirrors (deep recursion)";
     return true;
   }
-  // Stiff scenes of the error estimate's calibration (core/stiff_scenes.h)
+  // Stiff scenes of the error estimate's calibration (core/scenes/stiff_scenes.h)
   struct Stiff {
     const char* name;
     void (*build)(Scene&, CameraSpec&);

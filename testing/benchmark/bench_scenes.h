@@ -5,7 +5,7 @@
 // same geometry and any disagreement between them comes from the intersection code, not from the input.
 #pragma once
 
-#include "scenes.h"
+#include "scenes/scenes.h"
 
 #include <string>
 #include <vector>

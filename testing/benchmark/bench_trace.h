@@ -3,8 +3,8 @@
 #pragma once
 
 #include "bench_embree.h"
-#include "camera.h"
-#include "scene.h"
+#include "shading/camera.h"
+#include "scene/scene.h"
 
 #include <cstdint>
 #include <string>

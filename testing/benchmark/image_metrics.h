@@ -3,7 +3,7 @@
 // comparison compares PNG files through `whitted_bench diff`.
 #pragma once
 
-#include "renderer.h"
+#include "image/renderer.h"
 
 #include <string>
 

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <cstring>
 
-#include "math.h"
+#include "util/math.h"
 
 namespace whitted_fuzz {
 

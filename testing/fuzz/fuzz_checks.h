@@ -30,7 +30,7 @@
 // testing/fuzz/CMakeLists.txt runs each mode as a test that passes only if that report appears.
 #pragma once
 
-#include "renderer.h"
+#include "image/renderer.h"
 
 #include <algorithm>
 #include <cmath>

@@ -53,9 +53,9 @@
 #include "vtkSmartPointer.h"
 #include "vtkTexture.h"
 
-#include "camera.h"
-#include "renderer.h"
-#include "scene.h"
+#include "shading/camera.h"
+#include "image/renderer.h"
+#include "scene/scene.h"
 #include "fuzz_bytes.h"
 #include "fuzz_checks.h"
 

@@ -3,9 +3,9 @@
 // barycentrics that sum to <= 1 (+ rounding); the BVH-accelerated closest hit equals brute force; the mesh seen
 // at 8x8 from the ray's origin along its direction passes the frame checks of fuzz_checks.h (the depth net and the
 // hit depths where origin, direction and vertices are finite and within 1e3, the valid domain there).
-#include "renderer.h"
-#include "scene.h"
-#include "shapes.h"
+#include "geometry/shapes.h"
+#include "image/renderer.h"
+#include "scene/scene.h"
 #include "fuzz_bytes.h"
 #include "fuzz_checks.h"
 

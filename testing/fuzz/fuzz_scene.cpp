@@ -9,7 +9,7 @@
 //   with an independent intersection where the ray hits too.
 #include "fuzz_bytes.h"
 #include "fuzz_checks.h"
-#include "renderer.h"
+#include "image/renderer.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 

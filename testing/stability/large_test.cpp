@@ -2,8 +2,8 @@
 // while building a scene surfaces as std::bad_alloc from Scene::commit() (which adapters turn into a clear error)
 // instead of a crash. Labelled "large": not run under the sanitizers (ASan's shadow memory and an address-space
 // limit do not mix).
-#include "renderer.h"
-#include "scenes.h"
+#include "image/renderer.h"
+#include "scenes/scenes.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // Numerical stability on stiff and extreme scenes (core level). Every case asserts; the figures it measures (rays
 // tried, leaks, differing pixels) are printed so the closing notes can quote them.
-#include "image.h"
-#include "renderer.h"
-#include "scenes.h"
+#include "image/image.h"
+#include "image/renderer.h"
+#include "scenes/scenes.h"
 
 #include <gtest/gtest.h>
 

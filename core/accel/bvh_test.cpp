@@ -1,0 +1,633 @@
+// BVH: build invariants and traversal equal to brute force.
+#include "accel/bvh.h"
+#include "scene/scene.h"
+#include "scenes/scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <optional>
+#include <random>
+#include <stdexcept>
+
+using namespace whitted;
+
+namespace {
+
+std::vector<Bounds3> randomBoxes(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(-10, 10);
+  std::vector<Bounds3> boxes;
+  for (int i = 0; i < n; ++i) {
+    Vec3 c(U(rng), U(rng), U(rng));
+    boxes.push_back(Bounds3{c - Vec3(0.1), c + Vec3(0.2)});
+  }
+  return boxes;
+}
+
+/// A tree split down to one primitive per leaf (many partly empty wide nodes).
+Bvh singlePrimitiveLeaves(const std::vector<Bounds3>& boxes) {
+  std::vector<Vec3> cents;
+  for (auto& b : boxes) cents.push_back(b.center());
+  Bvh bvh;
+  BvhBuildOptions opt;
+  opt.maxLeafSize = 1;
+  opt.traversalCost = 0.01;
+  bvh.build(boxes, cents, opt);
+  return bvh;
+}
+
+/// Reference slab test of a double box in long double (no float rounding anywhere): a conservative traversal
+/// must enter every box this enters.
+bool exactSlab(const long double lo[3], const long double hi[3], const Ray& r) {
+  long double t0 = r.tMin, t1 = r.tMax;
+  for (int a = 0; a < 3; ++a) {
+    if (r.dir[a] == 0.0) {
+      if (r.origin[a] < lo[a] || r.origin[a] > hi[a]) return false;
+      continue;
+    }
+    long double ta = (lo[a] - r.origin[a]) / r.dir[a];
+    long double tb = (hi[a] - r.origin[a]) / r.dir[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  return t0 <= t1;
+}
+bool exactSlab(const Bounds3& b, const Ray& r) {
+  const long double lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
+  return exactSlab(lo, hi, r);
+}
+
+/// Every wide node's child box contains its child node's boxes / its primitives, every primitive is in exactly
+/// one leaf, children are in range, empty slots are inverted boxes, leaves hold at most 8 primitives.
+void checkInvariants(const Bvh& bvh, const std::vector<Bounds3>& boxes) {
+  std::vector<int> seen(boxes.size(), 0);
+  const auto& nodes = bvh.nodes();
+  std::vector<int> parents(nodes.size(), 0);
+  for (const BvhWideNode& n : nodes) {
+    int used = 0;
+    for (int c = 0; c < 4; ++c) {
+      if (n.count[c] == BvhWideNode::kEmpty) {
+        ASSERT_GT(n.b[0][c], n.b[3][c]);  // inverted
+        continue;
+      }
+      ++used;
+      if (n.count[c] > 0) {
+        EXPECT_LE(n.count[c], 8u);
+        for (uint32_t i = n.first[c]; i < n.first[c] + n.count[c]; ++i) {
+          uint32_t p = bvh.primIndices()[i];
+          ++seen[p];
+          const Bounds3 nb = bvh.childBounds(n, c);
+          for (int a = 0; a < 3; ++a) {
+            ASSERT_LE(nb.lo[a], boxes[p].lo[a]);
+            ASSERT_GE(nb.hi[a], boxes[p].hi[a]);
+          }
+        }
+      } else {
+        ASSERT_LT(n.first[c], nodes.size());
+        ASSERT_GT(n.first[c], std::size_t(&n - nodes.data()));  // children after parents (refit relies on it)
+        ++parents[n.first[c]];
+        const BvhWideNode& child = nodes[n.first[c]];
+        // Both in the tree's anchored float coordinates: nesting is exact there
+        for (int cc = 0; cc < 4; ++cc) {
+          if (child.count[cc] == BvhWideNode::kEmpty) continue;
+          for (int a = 0; a < 3; ++a) {
+            ASSERT_LE(n.b[a][c], child.b[a][cc]);
+            ASSERT_GE(n.b[3 + a][c], child.b[3 + a][cc]);
+          }
+        }
+      }
+    }
+    EXPECT_GE(used, nodes.size() == 1 ? 1 : 2);
+  }
+  for (int s : seen) ASSERT_EQ(s, 1);
+  for (std::size_t i = 1; i < parents.size(); ++i) ASSERT_EQ(parents[i], 1) << "wide node " << i;
+  EXPECT_LT(bvh.depth(), Bvh::kStackSize);
+}
+
+std::vector<Vec3> centers(const std::vector<Bounds3>& boxes) {
+  std::vector<Vec3> cents;
+  for (auto& b : boxes) cents.push_back(b.center());
+  return cents;
+}
+
+BvhBuildOptions withQuality(BvhBuildQuality q, int threads = 0) {
+  BvhBuildOptions opt;
+  opt.quality = q;
+  opt.threads = threads;
+  return opt;
+}
+
+bool sameTree(const Bvh& a, const Bvh& b) {
+  return a.nodes().size() == b.nodes().size() && a.primIndices() == b.primIndices() &&
+         std::memcmp(a.nodes().data(), b.nodes().data(), a.nodes().size() * sizeof(BvhWideNode)) == 0;
+}
+
+class BvhQuality : public testing::TestWithParam<BvhBuildQuality> {};
+
+/// Random triangles (in a cube of edge 10) and their boxes.
+struct Triangles {
+  TriangleMesh mesh;  // triangle i: vertices 3i, 3i+1, 3i+2
+  std::vector<Bounds3> boxes;
+  Triangles(int n, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> U(-1, 1);
+    for (int i = 0; i < n; ++i) {
+      Vec3 c(U(rng) * 5, U(rng) * 5, U(rng) * 5);
+      for (int k = 0; k < 3; ++k) mesh.positions.push_back(k == 0 ? c : c + Vec3(U(rng), U(rng), U(rng)) * 0.5);
+      mesh.triangles.push_back({3 * i, 3 * i + 1, 3 * i + 2});
+    }
+    updateBoxes();
+  }
+  void updateBoxes() {
+    boxes.assign(mesh.triangles.size(), Bounds3());
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) boxes[i / 3].extend(mesh.positions[i]);
+  }
+  std::optional<PrimHit> intersect(const Ray& r, uint32_t i) const {
+    return intersectTriangle(r, mesh.positions[3 * i], mesh.positions[3 * i + 1], mesh.positions[3 * i + 2]);
+  }
+  /// Closest hit distance over all triangles (infinity for none); prim: the lowest index at that distance.
+  double bruteForce(const Ray& r, uint32_t& prim) const {
+    double best = kInfinity;
+    for (uint32_t i = 0; i < boxes.size(); ++i) {
+      auto h = intersect(r, i);
+      if (h && h->t < best) {
+        best = h->t;
+        prim = i;
+      }
+    }
+    return best;
+  }
+};
+
+Ray randomRay(std::mt19937& rng) {
+  std::uniform_real_distribution<double> U(-1, 1);
+  Ray r;
+  r.origin = Vec3(U(rng), U(rng), U(rng)) * 8.0;
+  r.dir = glm::normalize(Vec3(U(rng), U(rng), U(rng)));
+  return r;
+}
+
+/// Closest hits through the tree equal brute force over every triangle (same t, same triangle) for random rays.
+void expectClosestHitsMatch(const Bvh& bvh, const Triangles& tris, unsigned seed) {
+  std::mt19937 rng(seed);
+  int hits = 0;
+  for (int k = 0; k < 1000; ++k) {
+    const Ray r = randomRay(rng);
+    uint32_t bestPrim = 0;
+    const double best = tris.bruteForce(r, bestPrim);
+    double tMax = r.tMax;
+    uint32_t prim = 0;
+    bool found = bvh.traverse<false>(r, tMax, [&](uint32_t first, uint32_t count, double& t) {
+      bool any = false;
+      for (uint32_t i = first; i < first + count; ++i) {
+        const uint32_t p = bvh.primIndices()[i];
+        auto h = tris.intersect(r, p);
+        if (h && (h->t < t || (h->t == t && p < prim))) {  // ties: the lower index, as the brute force
+          t = h->t;
+          prim = p;
+          any = true;
+        }
+      }
+      return any;
+    });
+    ASSERT_EQ(found, std::isfinite(best)) << "ray " << k;
+    if (found) {
+      ++hits;
+      EXPECT_EQ(tMax, best);
+      EXPECT_EQ(prim, bestPrim);
+    }
+  }
+  EXPECT_GT(hits, 100);
+}
+
+}  // namespace
+
+TEST_P(BvhQuality, NodesContainChildrenAndEveryPrimitiveOnce) {
+  auto boxes = randomBoxes(5000, 1);
+  Bvh bvh;
+  bvh.build(boxes, centers(boxes), withQuality(GetParam()));
+  checkInvariants(bvh, boxes);
+}
+
+TEST_P(BvhQuality, CoincidentCentroidsStillSplit) {
+  for (int n : {1000, 70000}) {  // sequential and chunked passes
+    std::vector<Bounds3> boxes(n, Bounds3{Vec3(0), Vec3(1)});
+    std::vector<Vec3> cents(n, Vec3(0.5));
+    Bvh bvh;
+    bvh.build(boxes, cents, withQuality(GetParam()));
+    checkInvariants(bvh, boxes);
+  }
+}
+
+TEST_P(BvhQuality, ClosestHitsMatchBruteForce) {
+  Triangles tris(3000, 4);
+  Bvh bvh;
+  bvh.build(tris.boxes, centers(tris.boxes), withQuality(GetParam()));
+  expectClosestHitsMatch(bvh, tris, 5);
+}
+
+// Points move, topology stays: after refit the boxes contain the moved primitives and hits are still exact.
+TEST_P(BvhQuality, RefitFollowsMovedPrimitives) {
+  Triangles tris(3000, 6);
+  Bvh bvh;
+  bvh.build(tris.boxes, centers(tris.boxes), withQuality(GetParam()));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (Vec3& p : tris.mesh.positions) p += Vec3(U(rng), U(rng), U(rng)) * 0.8;  // larger than the triangles themselves
+  tris.updateBoxes();
+  const std::vector<uint32_t> order = bvh.primIndices();
+  bvh.refit(tris.boxes);
+  EXPECT_EQ(bvh.primIndices(), order);
+  checkInvariants(bvh, tris.boxes);
+  Bounds3 all;
+  for (const Bounds3& b : tris.boxes) all.extend(b);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_LE(bvh.bounds().lo[a], all.lo[a]);
+    EXPECT_GE(bvh.bounds().hi[a], all.hi[a]);
+  }
+  expectClosestHitsMatch(bvh, tris, 8);
+}
+
+// Refit on the build's own boxes, given by primitive or in leaf order, reproduces the built boxes bit for bit (same
+// outward rounding).
+TEST_P(BvhQuality, RefitOnSameBoxesChangesNothing) {
+  auto boxes = randomBoxes(50000, 9);
+  Bvh built, refitted;
+  built.build(boxes, centers(boxes), withQuality(GetParam()));
+  refitted = built;
+  refitted.refit(boxes);
+  EXPECT_TRUE(sameTree(built, refitted));
+  EXPECT_THROW(refitted.refit(std::vector<Bounds3>(boxes.begin(), boxes.end() - 1)), std::invalid_argument);
+  // The same boxes given in leaf order
+  std::vector<Bounds3> leafOrder;
+  for (uint32_t p : built.primIndices()) leafOrder.push_back(boxes[p]);
+  Bvh fromLeafOrder = built;
+  fromLeafOrder.refitLeafOrder(leafOrder);
+  EXPECT_TRUE(sameTree(built, fromLeafOrder));
+}
+
+INSTANTIATE_TEST_SUITE_P(Bvh, BvhQuality, testing::Values(BvhBuildQuality::Sah, BvhBuildQuality::Fast),
+                         [](const testing::TestParamInfo<BvhBuildQuality>& i) {
+                           return i.param == BvhBuildQuality::Sah ? "Sah" : "Fast";
+                         });
+
+// The SAH cost tracks trace work: a refit on the same boxes keeps the cost, and a refit after the primitives trade
+// places (same topology, scattered boxes) scores several times higher and visits correspondingly more nodes and
+// primitives along random rays. Empty trees cost 0.
+TEST(Bvh, SahCostTracksTraceWork) {
+  EXPECT_EQ(Bvh().sahCost(), 0.0);
+  auto boxes = randomBoxes(20000, 5);
+  Bvh sah;
+  sah.build(boxes, centers(boxes), withQuality(BvhBuildQuality::Sah));
+  const double cost = sah.sahCost();
+  EXPECT_GT(cost, 1.0);
+  Bvh same = sah;
+  same.refit(boxes);
+  EXPECT_EQ(same.sahCost(), cost);
+
+  // Work along random rays: wide nodes visited plus primitives tested
+  auto work = [](const Bvh& bvh) {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> U(-12, 12);
+    uint64_t total = 0;
+    for (int k = 0; k < 2000; ++k) {
+      Ray r;
+      r.origin = Vec3(U(rng), U(rng), U(rng));
+      r.dir = glm::normalize(Vec3(U(rng), U(rng), U(rng)));
+      double tMax = kInfinity;
+      bvh.traverse<false>(
+          r, tMax,
+          [&](uint32_t, uint32_t count, double&) {
+            total += count;
+            return false;
+          },
+          &total);
+    }
+    return double(total);
+  };
+  std::vector<Bounds3> scattered = boxes;
+  std::shuffle(scattered.begin(), scattered.end(), std::mt19937(11));
+  Bvh moved = sah;
+  moved.refit(scattered);
+  EXPECT_GT(moved.sahCost(), 3.0 * cost);
+  EXPECT_GT(work(moved), 3.0 * work(sah));
+}
+
+// Above 32768 primitives large nodes bin and partition in parallel chunks and subtrees are built as tasks on a
+// thread pool (the ThreadSanitizer suite runs this test). The tree is a function of the input only: the same nodes
+// and primitive order on 1, 2 and 3 threads.
+TEST(Bvh, ParallelBuildKeepsInvariantsAndIsDeterministic) {
+  auto boxes = randomBoxes(200000, 2);
+  const auto cents = centers(boxes);
+  for (BvhBuildQuality q : {BvhBuildQuality::Sah, BvhBuildQuality::Fast}) {
+    Bvh one, two, three;
+    one.build(boxes, cents, withQuality(q, 1));
+    two.build(boxes, cents, withQuality(q, 2));
+    three.build(boxes, cents, withQuality(q, 3));
+    checkInvariants(two, boxes);
+    EXPECT_TRUE(sameTree(one, two));
+    EXPECT_TRUE(sameTree(one, three));
+    // Refit on more threads than one, too
+    for (Bounds3& b : boxes) b.hi += Vec3(0.05);
+    two.refit(boxes);
+    checkInvariants(two, boxes);
+  }
+}
+
+// Object rebuilds pass no centroids (Bvh::build over caller-owned arrays, centroids null): the tree must be the one
+// the boxes' centres give, since a background upgrade builds from validBoxes() with explicit centres and its tree
+// is compared with (and swapped for) the rebuild's. Small (one thread) and parallel inputs, both builders.
+TEST(Bvh, NullCentroidsBuildTheTreeOfTheBoxCentres) {
+  for (int n : {1000, 100000}) {
+    auto boxes = randomBoxes(n, 3);
+    std::mt19937 rng(5);  // boxes of different sizes: their centres differ from any fixed corner offset
+    std::uniform_real_distribution<double> grow(0.0, 2.0);
+    for (Bounds3& b : boxes) b.hi += Vec3(grow(rng), grow(rng), grow(rng));
+    const auto cents = centers(boxes);
+    for (BvhBuildQuality q : {BvhBuildQuality::Sah, BvhBuildQuality::Fast}) {
+      Bvh given, implied;
+      given.build(boxes, cents, withQuality(q, 2));
+      implied.build(boxes.data(), nullptr, boxes.size(), withQuality(q, 2));
+      checkInvariants(implied, boxes);
+      EXPECT_TRUE(sameTree(given, implied)) << n << " primitives";
+      EXPECT_EQ(given.bounds().lo, implied.bounds().lo);
+      EXPECT_EQ(given.bounds().hi, implied.bounds().hi);
+    }
+  }
+}
+
+// Single-primitive leaves need more wide nodes per primitive than a subtree reserves up front (its nodes then move
+// to storage of their own): the tree stays whole and the same on 1 and 2 threads.
+TEST(Bvh, ParallelBuildOfSinglePrimitiveLeaves) {
+  auto boxes = randomBoxes(100000, 11);
+  const auto cents = centers(boxes);
+  for (BvhBuildQuality q : {BvhBuildQuality::Sah, BvhBuildQuality::Fast}) {
+    BvhBuildOptions opt = withQuality(q, 1);
+    opt.maxLeafSize = 1;
+    opt.traversalCost = 0.01;
+    Bvh one, two;
+    one.build(boxes, cents, opt);
+    opt.threads = 2;
+    two.build(boxes, cents, opt);
+    EXPECT_GT(two.nodes().size(), boxes.size() / 3);
+    checkInvariants(two, boxes);
+    EXPECT_TRUE(sameTree(one, two));
+  }
+}
+
+// The SAH build is the better tree: lower expected cost than the Morton build of the same boxes.
+TEST(Bvh, SahBuildBeatsFastBuildOnSahCost) {
+  auto boxes = randomBoxes(100000, 10);
+  const auto cents = centers(boxes);
+  Bvh sah, fast;
+  sah.build(boxes, cents, withQuality(BvhBuildQuality::Sah));
+  fast.build(boxes, cents, withQuality(BvhBuildQuality::Fast));
+  EXPECT_LT(sah.sahCost(), 0.95 * fast.sahCost());
+}
+
+// Through the scene (two levels, leaf-ordered triangle copies) as well as through the bare tree.
+TEST(Bvh, ClosestHitMatchesBruteForce) {
+  Triangles tris(2000, 3);
+  Scene scene;
+  scene.addInstance(scene.addMesh(TriangleMesh(tris.mesh)), Mat4(1.0), scene.addMaterial(Material{}));
+  scene.commit();
+  std::mt19937 rng(4);
+  int hits = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const Ray r = randomRay(rng);
+    uint32_t bestPrim = 0;
+    const double best = tris.bruteForce(r, bestPrim);
+    Hit h;
+    bool found = scene.intersect(r, h);
+    ASSERT_EQ(found, std::isfinite(best));
+    if (found) {
+      ++hits;
+      EXPECT_EQ(h.t, best);
+      EXPECT_EQ(h.prim, bestPrim);
+    }
+  }
+  EXPECT_GT(hits, 200);
+}
+
+// Tiny trees (a root leaf, roots with 2 or 3 children, partly empty wide nodes) find exactly the boxes a brute-force
+// slab test finds, with closest-first order: the leaf callback sees each entered leaf once.
+TEST(Bvh, TinyTreesVisitWhatBruteForceHits) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (int n = 1; n <= 40; ++n) {
+    auto boxes = randomBoxes(n, unsigned(100 + n));
+    std::vector<Vec3> cents;
+    for (auto& b : boxes) cents.push_back(b.center());
+    Bvh bvh;
+    BvhBuildOptions opt;
+    opt.maxLeafSize = 1 + n % 3;
+    opt.traversalCost = 0.01;  // split down to small leaves
+    bvh.build(boxes, cents, opt);
+    checkInvariants(bvh, boxes);
+    for (int k = 0; k < 200; ++k) {
+      Ray r;
+      r.origin = Vec3(U(rng), U(rng), U(rng)) * 15.0;
+      r.dir = glm::normalize(Vec3(U(rng), U(rng), U(rng)));
+      std::vector<int> expected(boxes.size(), 0), got(boxes.size(), 0);
+      for (std::size_t p = 0; p < boxes.size(); ++p) {
+        expected[p] = exactSlab(boxes[p], r) ? 1 : 0;
+      }
+      double tMax = r.tMax;
+      bvh.traverse<false>(r, tMax, [&](uint32_t first, uint32_t count, double&) {
+        for (uint32_t i = first; i < first + count; ++i) ++got[bvh.primIndices()[i]];
+        return false;
+      });
+      // Every primitive whose own box the ray enters is in a visited leaf, and no leaf is visited twice
+      for (std::size_t p = 0; p < boxes.size(); ++p) {
+        ASSERT_LE(got[p], 1);
+        if (expected[p]) ASSERT_EQ(got[p], 1) << "n " << n << " ray " << k << " prim " << p;
+      }
+    }
+  }
+}
+
+namespace {
+
+// The single-precision box test never loses a box the exact (long double) slab test enters: boxes of size 1e-6
+// to 1e3 at offsets 0 to 1e7, rays with direction magnitudes 1e-200 to 1e200, near-parallel slopes (down to 1e-40
+// and exact zeros), and origins placed exactly on box faces. Every ray is aimed at one box's interior or at one of
+// its face planes, so most of these rays graze.
+TEST(Bvh, FloatBoxTestIsConservativeForDoubleRays) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-1, 1), U01(0, 1);
+  const double scales[] = {1e-6, 1e-2, 1e3}, offsets[] = {0.0, 1e3, 1e7};
+  const double dirMags[] = {1e-200, 1.0, 1e200};
+  long entered = 0, rays = 0;
+  for (double scale : scales)
+    for (double offset : offsets) {
+      std::vector<Bounds3> boxes;
+      for (int i = 0; i < 300; ++i) {
+        Vec3 c = Vec3(offset) + scale * 20.0 * Vec3(U(rng), U(rng), U(rng));
+        Vec3 h = scale * Vec3(U01(rng), U01(rng), U01(rng)) + Vec3(scale * 1e-3);
+        boxes.push_back(Bounds3{c - h, c + h});
+      }
+      const Bvh bvh = singlePrimitiveLeaves(boxes);
+      for (int k = 0; k < 3000; ++k) {
+        const Bounds3& target = boxes[std::size_t(k) % boxes.size()];
+        Vec3 aim = target.lo + (target.hi - target.lo) * Vec3(U01(rng), U01(rng), U01(rng));
+        if (k % 3 == 1) aim[k % 3] = (k & 8) ? target.lo[k % 3] : target.hi[k % 3];  // on a face plane
+        Vec3 d = glm::normalize(Vec3(U(rng), U(rng), U(rng)));
+        if (k % 5 == 0) d[(k / 5) % 3] = (k & 16) ? 0.0 : 1e-40 * U(rng);  // (nearly) parallel to an axis plane
+        d *= dirMags[std::size_t(k) % 3];
+        Ray r;
+        const double back = scale * (k % 7 == 0 ? 1e4 : 30.0);  // also from far away
+        r.origin = aim - (back / glm::length(d / dirMags[std::size_t(k) % 3])) * d / dirMags[std::size_t(k) % 3];
+        if (k % 11 == 0) r.origin = aim;  // origin on the face plane / inside the box
+        r.dir = d;
+        if (!isFinite(r.origin) || !isFinite(r.dir)) continue;
+        std::vector<int> got(boxes.size(), 0);
+        double tMax = r.tMax;
+        bvh.traverse<false>(r, tMax, [&](uint32_t first, uint32_t count, double&) {
+          for (uint32_t i = first; i < first + count; ++i) ++got[bvh.primIndices()[i]];
+          return false;
+        });
+        ++rays;
+        for (std::size_t p = 0; p < boxes.size(); ++p)
+          if (exactSlab(boxes[p], r)) {
+            ++entered;
+            ASSERT_EQ(got[p], 1) << "scale " << scale << " offset " << offset << " ray " << k << " box " << p;
+          }
+      }
+    }
+  std::printf("[bvh] float box test: %ld rays, %ld exact box entries, none lost\n", rays, entered);
+  EXPECT_GT(entered, rays);  // the aimed-at box at least, for most rays
+}
+
+// The stored float boxes themselves (leaf children), touched exactly: rays aimed at a corner or an edge of a leaf's
+// single-precision box (its exact value b + anchor, in long double), from near and far, at every scale and offset.
+// Half of these rays only touch the box, so any rounding toward the inside (origin, reciprocal, subtraction,
+// product) loses some.
+TEST(Bvh, FloatBoxTestKeepsRaysTouchingTheStoredBox) {
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> U(-1, 1), U01(0, 1);
+  long touching = 0;
+  for (double scale : {1e-6, 1.0, 1e4})
+    for (double offset : {0.0, 3e2, 1e7}) {
+      std::vector<Bounds3> boxes;
+      for (int i = 0; i < 64; ++i) {
+        Vec3 c = Vec3(offset) + scale * 10.0 * Vec3(U(rng), U(rng), U(rng));
+        boxes.push_back(Bounds3{c - Vec3(scale * 0.3), c + Vec3(scale * 0.3)});
+      }
+      const Bvh bvh = singlePrimitiveLeaves(boxes);
+      for (const BvhWideNode& n : bvh.nodes())
+        for (int c = 0; c < 4; ++c) {
+          if (n.count[c] == 0 || n.count[c] == BvhWideNode::kEmpty) continue;
+          const uint32_t prim = bvh.primIndices()[n.first[c]];
+          long double lo[3], hi[3];
+          for (int a = 0; a < 3; ++a) {
+            lo[a] = (long double)n.b[a][c] + bvh.anchor()[a];
+            hi[a] = (long double)n.b[3 + a][c] + bvh.anchor()[a];
+          }
+          for (int k = 0; k < 60; ++k) {
+            // A corner (k even) or a point on an edge, approached from a random direction
+            long double aim[3];
+            for (int a = 0; a < 3; ++a) aim[a] = (rng() & 1) ? lo[a] : hi[a];
+            if (k & 1) aim[k % 3] = lo[k % 3] + (hi[k % 3] - lo[k % 3]) * U01(rng);
+            Vec3 d = glm::normalize(Vec3(U(rng), U(rng), U(rng))) * (k % 3 == 0 ? 1e-100 : 1.0);
+            const long double back = scale * ((k % 4 == 0) ? 1e5 : 2.0) / glm::length(d);
+            Ray r;
+            for (int a = 0; a < 3; ++a) r.origin[a] = double(aim[a] - back * d[a]);
+            r.dir = d;
+            if (k % 5 == 4) {
+              // From the anchor itself (the origin rounds exactly): only the reciprocal's and the products'
+              // rounding can lose these
+              r.origin = bvh.anchor();
+              for (int a = 0; a < 3; ++a) r.dir[a] = double(aim[a] - r.origin[a]);
+            }
+            if (!exactSlab(lo, hi, r)) continue;
+            ++touching;
+            bool seen = false;
+            double tMax = r.tMax;
+            bvh.traverse<false>(r, tMax, [&](uint32_t first, uint32_t count, double&) {
+              for (uint32_t i = first; i < first + count; ++i) seen |= bvh.primIndices()[i] == prim;
+              return false;
+            });
+            ASSERT_TRUE(seen) << "scale " << scale << " offset " << offset << " ray " << k;
+          }
+        }
+    }
+  std::printf("[bvh] %ld rays touching stored float boxes, all entered\n", touching);
+  EXPECT_GT(touching, 5000);
+}
+
+}  // namespace
+
+namespace {
+
+// Rays whose origin lies beyond float range from the tree's anchor on one, two or three axes (the origin rounds to
+// +-inf there), with infinite exit bounds: the leaf callback never sees an empty slot. Found by the scene fuzzer
+// (an empty slot entered through NaN exits and an +inf entry compared with an infinite exit bound).
+TEST(Bvh, OriginsBeyondFloatRangeNeverEnterEmptySlots) {
+  for (int n : {2, 3, 5, 6, 7}) {
+    auto boxes = randomBoxes(n, unsigned(300 + n));
+    const Bvh bvh = singlePrimitiveLeaves(boxes);
+    for (double far : {-1e39, 1e39, -1e300, 1e300})
+      for (int axes = 1; axes < 8; ++axes) {  // far on one, two or all three axes, aimed back at the boxes
+        Ray r;
+        r.origin = Vec3(0.1, -0.2, 0.3);
+        r.dir = Vec3(0.0);
+        for (int axis = 0; axis < 3; ++axis)
+          if (axes & (1 << axis)) {
+            r.origin[axis] = far;
+            r.dir[axis] = far < 0 ? 1.0 : -1.0;
+          }
+        double tMax = r.tMax;
+        bvh.traverse<false>(r, tMax, [&](uint32_t first, uint32_t count, double&) {
+          EXPECT_NE(count, BvhWideNode::kEmpty);
+          EXPECT_LE(std::size_t(first) + count, boxes.size());
+          return false;
+        });
+      }
+  }
+}
+
+// Large arrays sit 2 MiB-aligned (huge-page candidates) and keep their contents through growth and copies; small
+// ones come 64-byte aligned from operator new.
+TEST(HugePageAllocator, AlignsLargeBlocksAndKeepsContents) {
+  using A = HugePageAllocator<uint32_t>;
+  LargeVector<uint32_t> small(100, 7u);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(small.data()) % 64, 0u);
+  LargeVector<uint32_t> v;
+  const std::size_t n = 3 * A::kMinBytes / sizeof(uint32_t) + 12345;  // grows through both kinds of block
+  for (std::size_t i = 0; i < n; ++i) v.push_back(uint32_t(i * 2654435761u));
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(v.data()) % HugePages::kHuge, 0u);
+  LargeVector<uint32_t> copy = v;
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(copy.data()) % HugePages::kHuge, 0u);
+  ASSERT_EQ(copy.size(), n);
+  for (std::size_t i = 0; i < n; i += 997) EXPECT_EQ(copy[i], uint32_t(i * 2654435761u));
+  EXPECT_EQ(copy.back(), uint32_t((n - 1) * 2654435761u));
+  v.shrink_to_fit();
+  v.resize(10);
+  v.shrink_to_fit();  // back to a small block
+  EXPECT_EQ(v[9], uint32_t(9 * 2654435761u));
+}
+
+}  // namespace
+
+// roundToFloat rounds in the loops the benchmark and the leaf code run over glm vectors (GCC 12's vectorizer
+// turns the plain double(float(x)) there into x); a volatile float is the independent reference.
+TEST(Math, RoundToFloatRoundsInsideVectorizedLoops) {
+  std::vector<Vec3> v;
+  for (int i = 0; i < 64; ++i) v.push_back(Vec3(0.1 * i, std::sin(0.3 * i), 1e7 + 0.7 * i));
+  std::vector<Vec3> expected = v;
+  for (Vec3& p : expected)
+    for (int k = 0; k < 3; ++k) {
+      volatile float f = float(p[k]);
+      p[k] = f;
+    }
+  for (Vec3& p : v) p = Vec3(roundToFloat(p.x), roundToFloat(p.y), roundToFloat(p.z));
+  int rounded = 0;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    EXPECT_EQ(v[i], expected[i]) << i;
+    rounded += v[i] != Vec3(0.1 * i, std::sin(0.3 * i), 1e7 + 0.7 * i);
+  }
+  EXPECT_GT(rounded, 60);  // the input is not already single precision
+}

@@ -1,0 +1,100 @@
+// Triangle meshes: the container, the watertight ray/triangle test, and the triangle shape (primitive bounds,
+// leaf tester, surface data at a hit) the scene's traversal is templated on.
+//
+// Intersection routines work in double precision and take rays whose direction need not be normalised; t is the
+// ray parameter.
+#pragma once
+
+#include "util/memory.h"
+#include "geometry/shape.h"
+
+namespace whitted {
+
+/// Indexed triangle mesh in object space.
+struct TriangleMesh {
+  LargeVector<Vec3> positions;         ///< Vertex positions (object space, double; huge pages: memory.h).
+  LargeVector<glm::uvec3> triangles;   ///< Vertex indices per triangle (huge pages: memory.h).
+  std::vector<Vec3f> normals;          ///< Optional per-vertex normals (empty = use facet normals).
+  std::vector<Color4> vertexColors;    ///< Optional per-vertex RGBA in [0,1].
+  std::vector<Color4> triangleColors;  ///< Optional per-triangle RGBA in [0,1] (wins over vertexColors).
+  std::vector<Vec2f> texcoords;        ///< Optional per-vertex texture coordinates.
+  /// Optional per-vertex colour-map coordinate in [0,1] (VTK's InterpolateScalarsBeforeMapping): interpolated,
+  /// then looked up in Scene texture colorMap (nearest, clamped, row 0) as the geometry colour, before lighting.
+  std::vector<float> colorCoords;
+  int32_t colorMap = -1;
+  /// Optional per-triangle (original index) mask of the edges that are polygon edges, drawn when the material has
+  /// edges (Material::edgeWidth): bit k = the edge from vertex k to vertex (k+1) % 3. Empty (or of another size)
+  /// = all three. A triangulated polygon marks its boundary edges only, as VTK draws them.
+  std::vector<uint8_t> edgeFlags;
+};
+
+/// Per-ray constants of the watertight triangle test (axis permutation and shear), computed once per ray.
+struct TriangleRay {
+  int kx = 0, ky = 1, kz = 2;
+  double sx = 0.0, sy = 0.0, sz = 0.0;
+  bool valid = false;  ///< false for a zero or non-finite direction (then nothing is hit)
+  explicit TriangleRay(const Ray& ray);
+};
+
+/// Watertight ray/triangle test (Woop, Benthin, Wald 2013). Returns a hit with t in (tMin, tMax). Exact at edges
+/// and vertices: a ray through a shared edge hits at least one of the two triangles.
+/// Performance note: pass the precomputed TriangleRay when testing many triangles against one ray.
+std::optional<PrimHit> intersectTriangle(const Ray& ray, const TriangleRay& tr, const Vec3& p0, const Vec3& p1,
+                                         const Vec3& p2);
+inline std::optional<PrimHit> intersectTriangle(const Ray& ray, const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+  return intersectTriangle(ray, TriangleRay(ray), p0, p1, p2);
+}
+
+/// Per-axis bound on the absolute error of the point b0*p0 + b1*p1 + b2*p2 (pbrt-v4, section 6.8).
+Vec3 triangleHitError(const Vec3& p0, const Vec3& p1, const Vec3& p2, double b0, double b1, double b2);
+
+/// The triangle shape. The scene stores a committed mesh's triangles in BVH leaf order (LeafOrdered), so leaf
+/// tests read consecutive memory; every other array stays indexed by the original vertex or triangle index.
+struct TriangleShape {
+  using Geometry = TriangleMesh;
+  static constexpr GeometryType kType = GeometryType::Triangles;
+  /// Stored in BVH leaf order once committed (leafOrdered() is the permuted array).
+  static constexpr bool kLeafOrdered = true;
+  static constexpr bool kCrossedOnce = true;  ///< A ray crosses a triangle at most once.
+  /// The per-primitive array kept in BVH leaf order.
+  static LargeVector<glm::uvec3>& leafOrdered(TriangleMesh& m) { return m.triangles; }
+  static const LargeVector<glm::uvec3>& leafOrdered(const TriangleMesh& m) { return m.triangles; }
+
+  /// Number of primitives, valid or not.
+  static std::size_t count(const TriangleMesh& m) { return m.triangles.size(); }
+  /// Box of triangle i; false if it cannot be hit (vertex index out of range, non-finite or degenerate).
+  static bool bounds(const TriangleMesh& m, uint32_t i, Bounds3& box);
+  /// True if a and b have bit-identical geometry apart from the leaf-ordered triangles (the caller compares those
+  /// through the leaf order).
+  static bool sameGeometry(const TriangleMesh& a, const TriangleMesh& b) { return sameBits(a.positions, b.positions); }
+  /// Clamps the colours to [0,1] (see sanitizeColors).
+  static void sanitize(TriangleMesh& m) {
+    sanitizeColors(m.vertexColors);
+    sanitizeColors(m.triangleColors);
+  }
+  /// Memory of the geometry arrays, bytes (allocated capacity).
+  static std::size_t bytes(const TriangleMesh& m);
+
+  /// Leaf tests of one object visit: slot indexes the leaf-ordered triangles.
+  class Tester {
+   public:
+    Tester(const TriangleMesh& m, const uint32_t* /*leafPrims*/, const Ray& ray)
+        : positions_(m.positions.data()), triangles_(m.triangles.data()), tr_(ray) {}
+    std::optional<PrimHit> operator()(uint32_t slot, const Ray& r) const {
+      const glm::uvec3& t = triangles_[slot];
+      return intersectTriangle(r, tr_, positions_[t.x], positions_[t.y], positions_[t.z]);
+    }
+
+   private:
+    const Vec3* positions_;
+    const glm::uvec3* triangles_;
+    TriangleRay tr_;
+  };
+
+  /// Object-space surface data of hit (found along objectRay): point and error bound, normals, colour (colour map,
+  /// triangle colour or interpolated vertex colour, in that order) and texture coordinates.
+  static void surface(const TriangleMesh& m, const Hit& hit, const Ray& objectRay, const std::vector<Texture>& textures,
+                      SurfacePoint& sp);
+};
+
+}  // namespace whitted

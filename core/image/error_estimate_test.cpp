@@ -1,0 +1,601 @@
+// The frame's error estimate: the truncation bound is never under the measured truncation error at any pixel
+// (stiff scenes: facing mirrors, nested glass, a light inside glass; and the classic scene), over depth caps and
+// thresholds; the sampling estimate's coverage against a many-sample reference; the summaries and error images.
+#include "image/renderer.h"
+#include "scenes/stiff_scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <string>
+
+using namespace whitted;
+
+namespace {
+
+struct NamedScene {
+  const char* name;
+  std::function<void(Scene&, CameraSpec&)> build;
+};
+
+const NamedScene kScenes[] = {{"mirrors", buildFacingMirrorsScene},
+                              {"nested-glass", buildNestedGlassScene},
+                              {"light-in-glass", buildLightInGlassScene},
+                              {"classic", [](Scene& s, CameraSpec& c) { buildClassicScene(s, c); }}};
+
+// Largest channel difference of the clamped colours (what the estimates are stated in)
+float pixelDifference(const Color4& a, const Color4& b) {
+  float d = 0.0f;
+  for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(std::clamp(a[c], 0.0f, 1.0f) - std::clamp(b[c], 0.0f, 1.0f)));
+  return d;
+}
+
+// A stiff scene at w x h with its truncation reference: same samples, depth 16 (the truncation reference depth),
+// threshold 0
+struct Truncated {
+  Scene scene;
+  Camera cam;
+  FrameBuffer ref;
+  Truncated(const std::function<void(Scene&, CameraSpec&)>& build, int w, int h) {
+    CameraSpec cs;
+    build(scene, cs);
+    scene.commit();
+    cam = cs.make(double(w) / h, scene.bounds());
+    RenderSettings rs;
+    rs.integrator.maxDepth = 16;
+    rs.integrator.contributionThreshold = 0.0f;
+    render(scene, cam, rs, w, h, ref);
+  }
+  // A truncated render against the reference: RMS of the measured error, pixels whose bound is under it by > slack
+  struct Check {
+    double measuredRms = 0.0;
+    int under = 0;
+  };
+  Check check(const FrameBuffer& fb, float slack) const {
+    Check c;
+    double measured2 = 0.0;
+    for (std::size_t i = 0; i < ref.color.size(); ++i) {
+      const float d = pixelDifference(ref.color[i], fb.color[i]);
+      measured2 += double(d) * d;
+      if (fb.truncation[i] + slack < d) ++c.under;
+    }
+    c.measuredRms = std::sqrt(measured2 / double(ref.color.size()));
+    return c;
+  }
+};
+
+}  // namespace
+
+// At every pixel, for every depth cap and threshold: the bound >= |render - reference|, where the reference has the
+// same samples, threshold 0 and depth 16 (the truncation reference depth: in the nested-glass scene kr + kt = 1 and
+// the series does not converge). The largest measured error is asserted to be large, so replacing the bound by any
+// constant below it fails; the RMS ratio bound / measured is printed (tightness). Every lookahead is checked: 0
+// (every cut ray charged the scene-wide bound), 1 (the default) and 2 levels of bound rays, and the adaptive one
+// (1 level, more up to 16 while a charge is above 1/255); each level is never above the one before (a hit's charge
+// is at most the scene-wide bound in every channel), the adaptive one never above 1 level, and none changes the
+// image.
+TEST(ErrorEstimate, TruncationBoundNeverUnderMeasuredOnStiffScenes) {
+  const int w = 64, h = 48;
+  for (const NamedScene& ns : kScenes) {
+    Truncated t(ns.build, w, h);
+    const Scene& s = t.scene;
+    const Camera& cam = t.cam;
+    const FrameBuffer& refFb = t.ref;
+    float largest = 0.0f;
+    int checked = 0;
+    for (int depth : {0, 1, 2, 3, 5, 8})
+      for (float thr : {0.0f, 1.0f / 255, 0.05f, 0.2f}) {
+        RenderSettings rs;
+        rs.integrator.maxDepth = depth;
+        rs.integrator.contributionThreshold = thr;
+        FrameBuffer fb[4];
+        FrameStats fs[4];
+        for (int look = 0; look < 4; ++look) {
+          rs.integrator.truncationLookahead = look < 3 ? look : 1;
+          rs.integrator.truncationTolerance = look < 3 ? 0.0f : 1.0f / 255;
+          rs.integrator.truncationLookaheadMax = look < 3 ? 0 : 16;
+          fs[look] = render(s, cam, rs, w, h, fb[look]);
+        }
+        EXPECT_EQ(fs[0].rays.boundRays, 0u);
+        if (fs[1].rays.savedByDepth + fs[1].rays.savedByThreshold > 0) EXPECT_GT(fs[1].rays.boundRays, 0u);
+        double measured2 = 0.0;
+        int under[4] = {0, 0, 0, 0}, aboveLooser = 0;
+        for (std::size_t i = 0; i < fb[1].color.size(); ++i) {
+          const float d = pixelDifference(refFb.color[i], fb[1].color[i]);
+          measured2 += double(d) * d;
+          largest = std::max(largest, d);
+          for (int look = 0; look < 4; ++look) {
+            if (fb[look].truncation[i] + 1e-5f < d) ++under[look];
+            ASSERT_EQ(fb[look].color[i], fb[1].color[i]) << i;
+          }
+          if (fb[1].truncation[i] > fb[0].truncation[i] + 1e-5f || fb[2].truncation[i] > fb[1].truncation[i] + 1e-5f ||
+              fb[3].truncation[i] > fb[1].truncation[i] + 1e-5f)
+            ++aboveLooser;
+        }
+        for (int look = 0; look < 4; ++look)
+          EXPECT_EQ(under[look], 0) << ns.name << " depth " << depth << " threshold " << thr << " lookahead " << look;
+        EXPECT_EQ(aboveLooser, 0) << ns.name << " depth " << depth << " threshold " << thr;
+        const double measuredRms = std::sqrt(measured2 / double(fb[1].color.size()));
+        if (measuredRms > 1e-4) {
+          ++checked;
+          std::printf(
+              "%-15s depth %d thr %.4f: measured RMS %.4f, bound RMS %.4f (x%.1f; lookahead 0 x%.1f, 2 x%.1f, "
+              "adaptive x%.1f), bound p95 %.4f, max %.4f\n",
+              ns.name, depth, thr, measuredRms, fs[1].truncation.rms, fs[1].truncation.rms / measuredRms,
+              fs[0].truncation.rms / measuredRms, fs[2].truncation.rms / measuredRms,
+              fs[3].truncation.rms / measuredRms, fs[1].truncation.p95, fs[1].truncation.max);
+        }
+      }
+    EXPECT_GT(largest, 0.05f) << ns.name << ": the settings must lose something for the check to mean anything";
+    EXPECT_GT(checked, 4) << ns.name;
+  }
+}
+
+// The tight bound (bound rays, lookahead 1) is really tighter than the scene-wide one (lookahead 0) where cut rays
+// end on dim surfaces: in the classic scene at depth 5 the cut rays bounce between the spheres and mostly land on
+// the floor or the background, and in the light-in-glass scene at depth 2 they land on the floor, while the
+// scene-wide bound charges each the brightest surface's fixed point. Measured at 64x48: RMS ratio tight / loose
+// 0.18 (classic) and 0.41 (light in glass); replacing the tight bound by the loose one gives 1 and fails.
+TEST(ErrorEstimate, TightTruncationBoundIsTighterThanTheSceneWideOne) {
+  struct Case {
+    const NamedScene* scene;
+    int depth;
+    double most;
+  };
+  const Case cases[] = {{&kScenes[3], 5, 0.3}, {&kScenes[2], 2, 0.6}};
+  for (const Case& c : cases) {
+    Scene s;
+    CameraSpec cs;
+    c.scene->build(s, cs);
+    s.commit();
+    const Camera cam = cs.make(4.0 / 3.0, s.bounds());
+    RenderSettings rs;
+    rs.integrator.maxDepth = c.depth;
+    rs.integrator.contributionThreshold = 0.0f;
+    FrameBuffer fb;
+    const FrameStats tight = render(s, cam, rs, 64, 48, fb);
+    rs.integrator.truncationLookahead = 0;
+    const FrameStats loose = render(s, cam, rs, 64, 48, fb);
+    ASSERT_GT(loose.truncation.rms, 1e-4) << c.scene->name;
+    std::printf("%s depth %d: truncation bound RMS tight %.5f, loose %.5f (x%.2f), %llu bound rays\n", c.scene->name,
+                c.depth, tight.truncation.rms, loose.truncation.rms, tight.truncation.rms / loose.truncation.rms,
+                (unsigned long long)tight.rays.boundRays);
+    EXPECT_LT(tight.truncation.rms, c.most * loose.truncation.rms) << c.scene->name;
+    EXPECT_GT(tight.rays.boundRays, 0u) << c.scene->name;
+  }
+}
+
+// The adaptive lookahead follows a bound ray's secondary rays while their charge (path weight x kr + kt x the
+// scene-wide remaining bound) is above the tolerance, so chains of mirrors and glass no longer end on that
+// scene-wide figure. Facing mirrors (kr 0.9) at depth 8: every level lands on another mirror, and a fixed lookahead
+// of 1 or 2 gives 5.6x / 5.4x the measured RMS; classic at depth 5 threshold 0.05: cut rays land on the glass ball
+// (kr + kt = 1: the remaining bound grows to the reference depth), 13.7x at 1. Measured at 64x48 with the adaptive
+// lookahead (1/255, up to 16 levels): 1.2x and 1.1x. Light in glass at depth 1: cut rays land on the floor, lit
+// through the glass (transmittance 0.12), 6.4x at 1; the adaptive lookahead's exact shadow rays at hits with a large
+// charge give 1.5x (2.4x with the unshadowed local term). Asserted: within the 2x of the measured RMS and
+// below 0.4x the fixed lookahead's bound; the fixed lookahead (tolerance 0) fails both.
+TEST(ErrorEstimate, AdaptiveLookaheadBoundWithinTwiceTheMeasured) {
+  struct Case {
+    const NamedScene* scene;
+    int depth;
+    float threshold;
+  };
+  const Case cases[] = {{&kScenes[0], 8, 0.0f}, {&kScenes[3], 5, 0.05f}, {&kScenes[2], 1, 0.0f}};
+  const int w = 64, h = 48;
+  for (const Case& c : cases) {
+    Truncated t(c.scene->build, w, h);
+    const Scene& s = t.scene;
+    const Camera& cam = t.cam;
+    FrameBuffer fixedFb, adaptiveFb;
+    RenderSettings rs;
+    rs.integrator.maxDepth = c.depth;
+    rs.integrator.contributionThreshold = c.threshold;
+    rs.integrator.truncationLookahead = 1;
+    rs.integrator.truncationTolerance = 0.0f;
+    const FrameStats fixed = render(s, cam, rs, w, h, fixedFb);
+    rs.integrator.truncationTolerance = 1.0f / 255;
+    rs.integrator.truncationLookaheadMax = 16;
+    const FrameStats adaptive = render(s, cam, rs, w, h, adaptiveFb);
+    const auto [measuredRms, under] = t.check(adaptiveFb, 1e-5f);
+    ASSERT_GT(measuredRms, 1e-3) << c.scene->name;
+    std::printf(
+        "%s depth %d thr %.3f: measured RMS %.5f, bound RMS fixed lookahead x%.2f, adaptive x%.2f (%llu / %llu "
+        "bound rays)\n",
+        c.scene->name, c.depth, c.threshold, measuredRms, fixed.truncation.rms / measuredRms,
+        adaptive.truncation.rms / measuredRms, (unsigned long long)fixed.rays.boundRays,
+        (unsigned long long)adaptive.rays.boundRays);
+    EXPECT_EQ(under, 0) << c.scene->name;
+    EXPECT_LT(adaptive.truncation.rms, 2.0 * measuredRms) << c.scene->name;
+    EXPECT_LT(adaptive.truncation.rms, 0.4 * fixed.truncation.rms) << c.scene->name;
+  }
+}
+
+// Many small charges: light in glass at depth 5, threshold 1/255. Every cut ray is charged under the absolute
+// tolerance (1/255), so with it alone each keeps its scene-wide charge (unshadowed light, the remaining bound),
+// while the light reaches the floor through the glass at 0.12: the bound is several times the measured error. The
+// relative tolerance (1/8 of each cut ray's own first charge) follows those rays further where a level halves the
+// charge (the glass: kr + kt = 0.45). Asserted: never under at any pixel, within 2x of the measured RMS with the
+// relative tolerance, and over 2.5x without it (so the first assertion fails when the relative rule is dropped).
+TEST(ErrorEstimate, RelativeToleranceBoundsManySmallCharges) {
+  const int w = 64, h = 48;
+  Truncated t(buildLightInGlassScene, w, h);
+  const Scene& s = t.scene;
+  const Camera& cam = t.cam;
+  FrameBuffer absFb, relFb;
+  RenderSettings rs;
+  rs.integrator.maxDepth = 5;
+  rs.integrator.contributionThreshold = 1.0f / 255;
+  ASSERT_GT(rs.integrator.truncationRelativeTolerance, 0.0f);  // on by default
+  const FrameStats rel = render(s, cam, rs, w, h, relFb);
+  rs.integrator.truncationRelativeTolerance = 0.0f;
+  const FrameStats abs = render(s, cam, rs, w, h, absFb);
+  for (std::size_t i = 0; i < relFb.color.size(); ++i)
+    EXPECT_EQ(relFb.color[i], absFb.color[i]) << i;  // colours do not depend on it
+  const auto [measuredRms, under] = t.check(relFb, 1e-6f);
+  ASSERT_GT(measuredRms, 5e-5);
+  std::printf(
+      "light in glass depth 5 thr 1/255: measured RMS %.6f, bound RMS absolute tolerance x%.2f, relative "
+      "x%.2f (%llu / %llu bound rays)\n",
+      measuredRms, abs.truncation.rms / measuredRms, rel.truncation.rms / measuredRms,
+      (unsigned long long)abs.rays.boundRays, (unsigned long long)rel.rays.boundRays);
+  EXPECT_EQ(under, 0);
+  EXPECT_LT(rel.truncation.rms, 2.0 * measuredRms);
+  EXPECT_GT(abs.truncation.rms, 2.5 * measuredRms);
+}
+
+// Light cut from shadow rays: with depth 16 no ray is cut by depth in the light-in-glass scene, and with
+// reflections and refractions off no secondary ray exists, so only the shadow rays' cut (transmittance 0.1225
+// below the threshold 0.2) is left out, and the bound must cover it.
+TEST(ErrorEstimate, ShadowRaysCutByTheThresholdAreBounded) {
+  Scene s;
+  CameraSpec cs;
+  buildLightInGlassScene(s, cs);
+  for (uint32_t m = 0; m < s.materialCount(); ++m) s.material(m).reflectance = Color(0.0f);
+  s.commit();
+  const Camera cam = cs.make(4.0 / 3.0, s.bounds());
+  RenderSettings rs;
+  rs.integrator.refractions = false;
+  rs.integrator.maxDepth = 0;
+  rs.integrator.contributionThreshold = 0.0f;
+  FrameBuffer ref, cut;
+  render(s, cam, rs, 48, 36, ref);
+  rs.integrator.contributionThreshold = 0.2f;
+  render(s, cam, rs, 48, 36, cut);
+  float largest = 0.0f;
+  std::size_t at = 0;
+  for (std::size_t i = 0; i < ref.color.size(); ++i) {
+    const float d = pixelDifference(ref.color[i], cut.color[i]);
+    if (d > largest) largest = d, at = i;
+    EXPECT_GE(cut.truncation[i] + 1e-5f, d) << i;
+  }
+  // maxDepth 0 also cuts the straight-through transmitted rays (bounded in both renders): where the threshold
+  // lost most, that part alone would not cover the loss, so the shadow part of the bound is what holds the check
+  EXPECT_GT(largest, ref.truncation[at]);
+  EXPECT_GT(largest, 0.02f);  // the floor lit through both boxes really loses light
+}
+
+// Images do not depend on the estimates, which are the same for any thread count.
+TEST(ErrorEstimate, EstimatesAreSideDataAndDeterministic) {
+  Scene s;
+  CameraSpec cs;
+  buildNestedGlassScene(s, cs);
+  s.commit();
+  const Camera cam = cs.make(4.0 / 3.0, s.bounds());
+  RenderSettings rs;
+  rs.samplesPerPixel = 4;
+  rs.threads = 1;
+  FrameBuffer a, b, c;
+  const FrameStats fa = render(s, cam, rs, 40, 30, a);
+  rs.errorEstimates = false;
+  render(s, cam, rs, 40, 30, b);
+  rs.errorEstimates = true;
+  rs.threads = 3;
+  const FrameStats fc = render(s, cam, rs, 40, 30, c);
+  EXPECT_EQ(0, std::memcmp(a.color.data(), b.color.data(), a.color.size() * sizeof(Color4)));
+  EXPECT_EQ(a.truncation, c.truncation);
+  EXPECT_EQ(a.sampling, c.sampling);
+  EXPECT_EQ(fa.sampling.rms, fc.sampling.rms);
+  EXPECT_GT(fa.sampling.max, 0.0);
+  EXPECT_GE(fa.sampling.max, fa.sampling.p95);
+  EXPECT_GE(fa.sampling.p95, 0.0);
+  EXPECT_EQ(fa.truncation.rms > 0.0, true);
+}
+
+// The sampling estimate against the truth, a 256-sample render with the same depth and threshold: the share of
+// pixels whose true error is within the estimate, at 4 and 16 samples (2 standard errors, stated ~95%) and at 1
+// sample (the neighbour heuristic), over all pixels and over the pixels with an error of at least 1/255.
+TEST(ErrorEstimate, SamplingEstimateCoverage) {
+  for (const NamedScene& ns : kScenes) {
+    Scene s;
+    CameraSpec cs;
+    ns.build(s, cs);
+    s.commit();
+    const Camera cam = cs.make(4.0 / 3.0, s.bounds());
+    RenderSettings rs;
+    rs.samplesPerPixel = 256;
+    FrameBuffer truth;
+    render(s, cam, rs, 48, 36, truth);
+    for (int spp : {1, 4, 16}) {
+      rs.samplesPerPixel = spp;
+      FrameBuffer fb;
+      render(s, cam, rs, 48, 36, fb);
+      int covered = 0, nonzero = 0, nonzeroCovered = 0;
+      for (std::size_t i = 0; i < fb.color.size(); ++i) {
+        const float d = pixelDifference(truth.color[i], fb.color[i]);
+        const bool ok = d <= fb.sampling[i] + 1.0f / 512;  // half an 8-bit step: the truth is 256 samples
+        covered += ok;
+        if (d >= 1.0f / 255) ++nonzero, nonzeroCovered += ok;
+      }
+      const double coverage = double(covered) / double(fb.color.size());
+      std::printf("%-15s %3d spp: coverage %.3f, over the %d of %zu pixels with an error >= 1/255: %.3f\n", ns.name,
+                  spp, coverage, nonzero, fb.color.size(), nonzero ? double(nonzeroCovered) / nonzero : 1.0);
+      EXPECT_GT(coverage, 0.95) << ns.name << " " << spp;
+      if (nonzero >= 50) EXPECT_GT(double(nonzeroCovered) / nonzero, 0.9) << ns.name << " " << spp;
+    }
+  }
+}
+
+// The classic scene at 64x48 and its first pass at the default settings (the progressive tests' start)
+struct ClassicFirstPass {
+  Scene s;
+  Camera cam;
+  FrameStats first;
+  static constexpr int w = 64, h = 48;
+  ClassicFirstPass() {
+    CameraSpec cs;
+    buildClassicScene(s, cs);
+    s.commit();
+    cam = cs.make(double(w) / h, s.bounds());
+    FrameBuffer fb;
+    first = render(s, cam, RenderSettings{}, w, h, fb);
+  }
+};
+
+// TargetError: refinement stops as soon as the estimated total RMS is at most the target. A target above the
+// first pass's estimate adds no sample; a reachable one is met with fewer samples than a tighter one, and
+// never with every pixel at the maximum.
+TEST(ErrorEstimate, TargetErrorStopsRefiningWhenMet) {
+  const ClassicFirstPass c;
+  const Scene& s = c.s;
+  const Camera& cam = c.cam;
+  const FrameStats& first = c.first;
+  const int w = c.w, h = c.h;
+  RenderSettings rs;
+  FrameBuffer fb;
+  ASSERT_GT(first.total.rms, 0.0);
+  ASSERT_LT(first.truncation.rms, 0.4 * first.total.rms);  // the targets below are within the samples' reach
+
+  rs.targetError = first.total.rms * 1.01;  // already met by the first pass
+  FrameStats met = render(s, cam, rs, w, h, fb);
+  EXPECT_TRUE(met.targetMet);
+  EXPECT_EQ(met.refinementRounds, 0);
+  EXPECT_EQ(met.samples, uint64_t(w * h));
+
+  uint64_t previous = 0;
+  for (double factor : {0.7, 0.4}) {
+    rs.targetError = first.total.rms * factor;
+    FrameBuffer out;
+    const FrameStats fs = render(s, cam, rs, w, h, out);
+    EXPECT_TRUE(fs.targetMet) << factor;
+    EXPECT_LE(fs.total.rms, rs.targetError) << factor;
+    EXPECT_GT(fs.refinementRounds, 0) << factor;
+    // Stopped when met: the round before did not meet it (else it would have stopped there)
+    ASSERT_GE(fs.progress.size(), 2u);
+    EXPECT_GT(fs.progress[fs.progress.size() - 2].second, rs.targetError) << factor;
+    EXPECT_GT(fs.samples, previous) << factor;
+    EXPECT_LT(fs.samples, uint64_t(w * h) * uint64_t(rs.maxProgressiveSamples)) << factor;
+    uint64_t perPixel = 0;
+    for (uint16_t n : out.samples) perPixel += n;
+    EXPECT_EQ(perPixel, fs.samples) << factor;  // the per-pixel counts account for every sample
+    previous = fs.samples;
+  }
+}
+
+// TimeBudget: with no target, refinement runs until the budget is spent and stops within one tile's
+// time (plus the final estimate pass, a few ms).
+TEST(ErrorEstimate, TimeBudgetHonouredWithinOneTile) {
+  Scene s;
+  CameraSpec cs;
+  buildClassicScene(s, cs);
+  s.commit();
+  const Camera cam = cs.make(4.0 / 3.0, s.bounds());
+  RenderSettings rs;
+  rs.maxProgressiveSamples = 4096;  // no target: only the budget stops it
+  rs.threads = 2;
+  for (double budget : {0.15, 0.4}) {
+    rs.timeBudget = budget;
+    FrameBuffer fb;
+    const FrameStats fs = render(s, cam, rs, 96, 72, fb);
+    std::printf("budget %.2f s: frame %.3f s, longest tile %.4f s, %d rounds, %llu samples\n", budget, fs.secondsTrace,
+                fs.longestTileSeconds, fs.refinementRounds, (unsigned long long)fs.samples);
+    EXPECT_FALSE(fs.targetMet);
+    // It did use the budget: a frame that stopped refining early traces less (unbudgeted it refines for seconds).
+    // Not a count of rounds: how many fit depends on the machine's load (a loaded 2-core machine fits fewer).
+    EXPECT_GE(fs.secondsTrace, budget);
+    // The tiles in flight (each at most the longest tile, which includes any time its thread was preempted), then
+    // the final estimate pass. The margin holds on a loaded 2-core machine (seen: 2-16 ms over the budget with both
+    // cores busy); without the budget this frame refines to 4096 samples per pixel, for seconds.
+    EXPECT_LE(fs.secondsTrace, budget + 2.0 * fs.longestTileSeconds + 0.2);
+  }
+}
+
+// A target below the truncation bound's RMS is out of the samples' reach: refinement loosens depth and threshold
+// where the truncation part dominates (the pixels are traced again, not given more samples) until it is met.
+TEST(ErrorEstimate, TargetBelowTruncationBoundLoosensDepthAndThreshold) {
+  Scene s;
+  CameraSpec cs;
+  buildFacingMirrorsScene(s, cs);
+  s.commit();
+  const Camera cam = cs.make(4.0 / 3.0, s.bounds());
+  RenderSettings rs;
+  rs.integrator.maxDepth = 2;
+  FrameBuffer fb;
+  const FrameStats first = render(s, cam, rs, 48, 36, fb);
+  ASSERT_GT(first.truncation.rms, 0.01);
+  rs.targetError = 0.5 * first.truncation.rms;
+  FrameBuffer out;
+  const FrameStats fs = render(s, cam, rs, 48, 36, out);
+  std::printf("truncation RMS %.4f -> %.4f in %d rounds, %llu samples retraced\n", first.truncation.rms,
+              fs.truncation.rms, fs.refinementRounds, (unsigned long long)fs.samplesRetraced);
+  EXPECT_TRUE(fs.targetMet);
+  EXPECT_GT(fs.refinementRounds, 0);
+  EXPECT_GT(fs.samplesRetraced, 0u);
+  EXPECT_LE(fs.truncation.rms, rs.targetError);
+  // The bound still holds for the loosened pixels: against the same frame at depth 64 and threshold 0
+  RenderSettings deep;
+  deep.integrator.maxDepth = 64;
+  deep.integrator.contributionThreshold = 0.0f;
+  FrameBuffer ref;
+  render(s, cam, deep, 48, 36, ref);
+  for (std::size_t i = 0; i < out.color.size(); ++i) {
+    if (out.samples[i] != 1) continue;  // only pixels with the same single centre sample as the reference
+    const Color4 d =
+        glm::clamp(ref.color[i], Color4(0.0f), Color4(1.0f)) - glm::clamp(out.color[i], Color4(0.0f), Color4(1.0f));
+    const float under = std::max(std::max(d.x, d.y), d.z);
+    EXPECT_LE(under, out.truncation[i] + 1e-4f) << i;
+  }
+}
+
+// Progressive display: the same still frame refined one round per call, its sums kept between calls, ends in
+// the image (bit for bit) and sample counts of the frame refined in one call, and every call adds one round
+// until the refinement is finished; a call with another size starts over.
+TEST(ErrorEstimate, RefinementContinuesAcrossCalls) {
+  const ClassicFirstPass c;
+  const Scene& s = c.s;
+  const Camera& cam = c.cam;
+  const int w = c.w, h = c.h;
+  RenderSettings rs;
+  rs.targetError = 0.5 * c.first.total.rms;
+  FrameBuffer whole;
+  const FrameStats once = render(s, cam, rs, w, h, whole);
+  ASSERT_TRUE(once.targetMet);
+  ASSERT_GT(once.refinementRounds, 1);
+
+  RefinementState state;
+  rs.refinement = &state;
+  rs.maxRefinementRounds = 1;
+  FrameBuffer step;
+  FrameStats fs;
+  int calls = 0;
+  double previous = 1.0;
+  do {
+    fs = render(s, cam, rs, w, h, step);
+    ++calls;
+    EXPECT_EQ(fs.refinementRounds, calls) << calls;
+    EXPECT_LE(fs.total.rms, previous + 1e-6) << calls;  // the estimate never grows between rounds
+    previous = fs.total.rms;
+  } while (!fs.refinementFinished && calls < 100);
+  EXPECT_TRUE(fs.targetMet);
+  EXPECT_EQ(calls, once.refinementRounds);  // the call that meets the target says so
+  EXPECT_EQ(fs.samples, once.samples);
+  EXPECT_EQ(step.samples, whole.samples);
+  EXPECT_TRUE(step.color == whole.color);
+  EXPECT_EQ(fs.progress.size(), once.progress.size());
+
+  // Another size: a new frame (first pass and one round)
+  const FrameStats other = render(s, cam, rs, w / 2, h / 2, step);
+  EXPECT_EQ(other.refinementRounds, 1);
+  EXPECT_EQ(state.width, w / 2);
+}
+
+// Progressive display with rounds cut short: a time slice shorter than a tile (each call refines one tile per
+// thread) or an abort after every tile leaves the round unfinished; the next call finishes it first, so the frame
+// reached is the one refined in one call, bit for bit, with the same rounds and samples. Fails if a cut round's
+// remaining pixels are dropped or re-picked (other pixels refined) or if a slice does not cut a round.
+TEST(ErrorEstimate, RoundCutShortIsFinishedByTheNextCall) {
+  const ClassicFirstPass c;
+  RenderSettings rs;
+  rs.threads = 1;
+  rs.tileSize = 8;
+  rs.targetError = 0.5 * c.first.total.rms;
+  FrameBuffer whole;
+  const FrameStats once = render(c.s, c.cam, rs, c.w, c.h, whole);
+  ASSERT_TRUE(once.targetMet);
+  ASSERT_GT(once.refinementRounds, 1);
+
+  for (const char* how : {"slice", "abort"}) {
+    RefinementState state;
+    RenderSettings step = rs;
+    step.refinement = &state;
+    step.maxRefinementRounds = 1;
+    FrameBuffer fb;
+    FrameStats fs = render(c.s, c.cam, step, c.w, c.h, fb);  // first pass and a whole round
+    ASSERT_EQ(fs.refinementRounds, 1) << how;
+    if (std::string(how) == "slice")
+      step.refinementSlice = 1e-9;
+    else
+      step.abortCheck = [] { return true; };
+    int calls = 0, cut = 0;
+    do {
+      const int before = fs.refinementRounds;
+      fs = render(c.s, c.cam, step, c.w, c.h, fb);
+      ++calls;
+      if (fs.refinementRounds == before && !fs.refinementFinished) {
+        ++cut;
+        EXPECT_FALSE(state.pending.empty()) << how << " call " << calls;
+      }
+    } while (!fs.refinementFinished && calls < 5000);
+    std::printf("%s: %d calls, %d of them cut a round short\n", how, calls, cut);
+    EXPECT_GT(cut, once.refinementRounds) << how;  // rounds were cut (a round has many tiles)
+    EXPECT_TRUE(fs.targetMet) << how;
+    EXPECT_EQ(fs.refinementRounds, once.refinementRounds) << how;
+    EXPECT_EQ(fs.samples, once.samples) << how;
+    EXPECT_EQ(fb.samples, whole.samples) << how;
+    EXPECT_TRUE(fb.color == whole.color) << how;
+    EXPECT_TRUE(state.pending.empty()) << how;
+  }
+}
+
+// Progressive refinement picks pixels by gain per *ray*, not per sample: a checkerboard whose right half is seen
+// through a clear slab (kt 1, IOR 1: the same image, but three rays per sample instead of one) has the same
+// sampling estimates on both halves. Picking by gain per sample refines both halves alike (measured, with rays per
+// sample forced to 1: 1056 left and 1032 right pixels in the first round); picking by gain per ray takes the cheap
+// left half first (1056 and 0).
+TEST(ErrorEstimate, RefinementPicksByGainPerRay) {
+  Scene s;
+  const Color4 dark(Color(0.1f), 1.0f), light(Color(0.9f), 1.0f);
+  Material floor;
+  floor.lighting = false;  // unlit: one ray per sample, no shadow rays
+  floor.ambient = 1.0f;
+  floor.diffuse = 0.0f;
+  floor.colorSource = ColorSource::ScalarsAmbientAndDiffuse;
+  s.addInstance(s.addMesh(makeGrid(Vec3(-2, -1.5, 0), Vec3(4, 0, 0), Vec3(0, 3, 0), 16, 12, &dark, &light)), Mat4(1.0),
+                s.addMaterial(floor));
+  Material clear;
+  clear.lighting = false;
+  clear.ambient = clear.diffuse = clear.specular = 0.0f;
+  clear.transmittance = Color(1.0f);
+  clear.ior = 1.0f;
+  s.addInstance(s.addMesh(makeBoxMesh(Vec3(0, -3, 1), Vec3(4, 3, 1.5))), Mat4(1.0), s.addMaterial(clear));
+  s.commit();
+  CameraSpec cs;
+  const int w = 64, h = 48;
+  const Camera cam = cs.make(double(w) / h, s.bounds());
+
+  RefinementState state;
+  RenderSettings rs;
+  rs.targetError = 1e-4;
+  rs.refinement = &state;
+  rs.maxRefinementRounds = 1;
+  FrameBuffer fb;
+  const FrameStats fs = render(s, cam, rs, w, h, fb);
+  ASSERT_EQ(fs.refinementRounds, 1);
+  // Pixels refined in each half (a margin around the slab's edge at the centre), and the sampling estimates there
+  int refined[2] = {0, 0}, estimated[2] = {0, 0};
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (std::abs(x - w / 2) < 3) continue;
+      const std::size_t i = std::size_t(y) * w + x;
+      const int half = x < w / 2 ? 0 : 1;
+      if (fb.samples[i] > 1) ++refined[half];
+      if (fb.sampling[i] > 0.0f) ++estimated[half];
+    }
+  std::printf("refined left %d, right %d (pixels with a sampling estimate: %d, %d)\n", refined[0], refined[1],
+              estimated[0], estimated[1]);
+  ASSERT_GT(estimated[1], 50);  // the right half has as much to refine as the left
+  EXPECT_GT(refined[0], 50);
+  EXPECT_LT(4 * refined[1], refined[0]);
+}

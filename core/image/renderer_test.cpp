@@ -1,0 +1,454 @@
+// Renderer and camera tests: identical output for any thread count, depth = projected depth, adaptive sampling,
+// image split between processes, abort, camera round trips.
+#include "image/renderer.h"
+#include "image/image.h"
+#include "image/report.h"
+#include "scenes/scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#ifdef __linux__
+#include <sched.h>
+#endif
+
+using namespace whitted;
+
+namespace {
+struct Classic {
+  Scene scene;
+  CameraSpec cs;
+  Classic() {
+    buildClassicScene(scene, cs);
+    scene.commit();
+  }
+};
+}  // namespace
+
+TEST(Renderer, BitIdenticalForAnyThreadCount) {
+  Classic c;
+  Camera cam = c.cs.make(1.0, c.scene.bounds());
+  RenderSettings rs;
+  rs.samplesPerPixel = 4;
+  rs.adaptive = true;
+  rs.tileSize = 8;
+  FrameBuffer ref;
+  rs.threads = 1;
+  FrameStats s1 = render(c.scene, cam, rs, 70, 50, ref);
+  for (int t : {2, 3, 7}) {
+    rs.threads = t;
+    FrameBuffer fb;
+    FrameStats st = render(c.scene, cam, rs, 70, 50, fb);
+    ASSERT_EQ(0, std::memcmp(ref.color.data(), fb.color.data(), ref.color.size() * sizeof(Color4))) << t;
+    ASSERT_EQ(0, std::memcmp(ref.depth.data(), fb.depth.data(), ref.depth.size() * sizeof(float))) << t;
+    EXPECT_EQ(st.rays.traced(), s1.rays.traced());
+    EXPECT_EQ(st.rays.savedByThreshold, s1.rays.savedByThreshold);
+    EXPECT_EQ(st.truncation.rms, s1.truncation.rms);
+    EXPECT_EQ(st.sampling.rms, s1.sampling.rms);
+  }
+}
+
+// A plane facing the camera at eye distance z has OpenGL depth 0.5 * z_ndc + 0.5 with
+// z_ndc = (f + n) / (f - n) - 2 f n / ((f - n) z).
+TEST(Renderer, DepthIsOpenGLDepthOfTheProjection) {
+  Scene s;
+  const double z = 7.25, n = 0.5, f = 40.0;
+  s.addInstance(s.addMesh(makeGrid(Vec3(-50, -50, -z), Vec3(100, 0, 0), Vec3(0, 100, 0), 1, 1)), Mat4(1.0),
+                s.addMaterial(Material{}));
+  s.commit();
+  for (bool parallel : {false, true}) {
+    Camera cam = parallel ? Camera::parallel(Vec3(0), Vec3(0, 0, -1), Vec3(0, 1, 0), 3.0, 1.5, n, f)
+                          : Camera::perspective(Vec3(0), Vec3(0, 0, -1), Vec3(0, 1, 0), 50.0, 1.5, n, f);
+    FrameBuffer fb;
+    render(s, cam, RenderSettings{}, 30, 20, fb);
+    double zNdc =
+        parallel ? (-2.0 / (f - n)) * (-z) - (f + n) / (f - n) : (f + n) / (f - n) - 2.0 * f * n / ((f - n) * z);
+    double expected = 0.5 * zNdc + 0.5;
+    for (float d : fb.depth) EXPECT_NEAR(d, expected, 1e-6) << (parallel ? "parallel" : "perspective");
+  }
+}
+
+// Misses: depth 1, alpha = background alpha, colour premultiplied by it.
+TEST(Renderer, MissesGetDepthOneAndBackgroundAlpha) {
+  for (float a : {0.0f, 0.5f, 1.0f}) {
+    Scene s;
+    s.background = Color(0.1f, 0.2f, 0.3f);
+    s.backgroundAlpha = a;
+    s.commit();
+    FrameBuffer fb;
+    render(s, Camera::perspective(Vec3(0, 0, 5), Vec3(0), Vec3(0, 1, 0), 30, 1, 0.1, 10), RenderSettings{}, 8, 8, fb);
+    for (std::size_t i = 0; i < fb.color.size(); ++i) {
+      EXPECT_EQ(fb.depth[i], 1.0f);
+      EXPECT_EQ(fb.color[i].a, a);
+      EXPECT_FLOAT_EQ(fb.color[i].z, 0.3f * a);
+    }
+  }
+}
+
+TEST(Renderer, AdaptiveSamplesOnlyWhereNeighboursDiffer) {
+  Classic c;
+  Camera cam = c.cs.make(1.0, c.scene.bounds());
+  RenderSettings full, adaptive;
+  full.samplesPerPixel = adaptive.samplesPerPixel = 9;
+  adaptive.adaptive = true;
+  FrameBuffer a, b;
+  FrameStats fa = render(c.scene, cam, full, 160, 160, a);
+  FrameStats fb = render(c.scene, cam, adaptive, 160, 160, b);
+  EXPECT_EQ(fa.samples, 160u * 160u * 9u);
+  EXPECT_LT(fb.samples, fa.samples / 2);   // most pixels are smooth
+  EXPECT_GT(fb.pixelsSupersampled, 100u);  // edges are refined
+  double err = 0.0;
+  for (std::size_t i = 0; i < a.color.size(); ++i) err += std::abs(a.color[i].x - b.color[i].x);
+  EXPECT_LT(err / double(a.color.size()), 0.01);
+}
+
+// A linear colour ramp (per-vertex colours across a plane facing the camera, constant lighting) changes by more
+// than the threshold from pixel to pixel but has no second difference: adaptive sampling leaves it alone.
+TEST(Renderer, AdaptiveLeavesSmoothRampsAlone) {
+  Scene scene;
+  TriangleMesh m;
+  m.positions = {Vec3(-2, -2, 0), Vec3(2, -2, 0), Vec3(2, 2, 0), Vec3(-2, 2, 0)};
+  m.triangles = {glm::uvec3(0, 1, 2), glm::uvec3(0, 2, 3)};
+  m.vertexColors = {Color4(0, 0, 0, 1), Color4(1, 0.5f, 0, 1), Color4(1, 0.5f, 0, 1), Color4(0, 0, 0, 1)};
+  Material mat;
+  mat.colorSource = ColorSource::ScalarsAmbientAndDiffuse;
+  scene.addInstance(scene.addMesh(m), Mat4(1.0), scene.addMaterial(mat));
+  Light sun;  // directional, along -z: the same N.L everywhere
+  scene.lights().push_back(sun);
+  scene.commit();
+  Camera cam = Camera::perspective(Vec3(0, 0, 5), Vec3(0), Vec3(0, 1, 0), 40.0, 1.0, 0.1, 20.0);
+  RenderSettings rs;
+  rs.samplesPerPixel = 4;
+  rs.adaptive = true;
+  FrameBuffer fb;
+  FrameStats fs = render(scene, cam, rs, 64, 64, fb);
+  const float step = fb.color[32 * 64 + 33].x - fb.color[32 * 64 + 32].x;
+  EXPECT_GT(step, rs.adaptiveThreshold);  // a first-difference criterion would refine every pixel
+  EXPECT_EQ(fs.pixelsSupersampled, 0u);
+  EXPECT_EQ(fs.samples, 64u * 64u);
+}
+
+// Two processes each tracing every other tile assemble, by depth, exactly the single-process image.
+TEST(Renderer, ImageSplitComposesToFullImage) {
+  Classic c;
+  Camera cam = c.cs.make(1.0, c.scene.bounds());
+  RenderSettings rs;
+  rs.tileSize = 8;
+  FrameBuffer full, part[2];
+  render(c.scene, cam, rs, 40, 40, full);
+  for (int r = 0; r < 2; ++r) {
+    rs.tileStride = 2;
+    rs.tileOffset = r;
+    render(c.scene, cam, rs, 40, 40, part[r]);
+  }
+  int fromEach[2] = {0, 0};
+  for (std::size_t i = 0; i < full.color.size(); ++i) {
+    int owner = part[0].traced[i] ? 0 : 1;
+    ASSERT_NE(part[0].traced[i], part[1].traced[i]);
+    ++fromEach[owner];
+    EXPECT_EQ(part[1 - owner].depth[i], 1.0f);
+    EXPECT_EQ(part[1 - owner].color[i].a, 0.0f);
+    EXPECT_EQ(part[owner].color[i], full.color[i]);
+    EXPECT_EQ(part[owner].depth[i], full.depth[i]);
+  }
+  EXPECT_GT(fromEach[0], 600);
+  EXPECT_GT(fromEach[1], 600);
+}
+
+// An abort mid-frame stops the frame; the next frame is complete and equal to an uninterrupted one.
+TEST(Renderer, AbortThenRenderAgainGivesTheRightImage) {
+  Classic c;
+  Camera cam = c.cs.make(1.0, c.scene.bounds());
+  RenderSettings rs;
+  rs.tileSize = 4;
+  int calls = 0;
+  rs.abortCheck = [&] { return ++calls >= 3; };
+  // One thread: the check runs after every tile, so exactly three tiles are traced
+  rs.threads = 1;
+  FrameBuffer aborted;
+  FrameStats fa = render(c.scene, cam, rs, 64, 64, aborted);
+  EXPECT_TRUE(fa.aborted);
+  EXPECT_EQ(fa.rays.primary, 3u * 4u * 4u);
+  // Several threads: the calling thread checks between its own tiles, so how many tiles the workers finish before
+  // a check is a matter of scheduling. The deterministic abort (RenderSettings::abortAfterTiles) stops the frame at
+  // a fixed tile whatever the scheduling: exactly that many tiles are traced, by any number of threads.
+  rs.abortCheck = nullptr;
+  for (int threads : {2, 5}) {
+    rs.threads = threads;
+    rs.abortAfterTiles = 37;
+    fa = render(c.scene, cam, rs, 512, 512, aborted);
+    EXPECT_TRUE(fa.aborted) << threads;
+    EXPECT_EQ(fa.rays.primary, 37u * 4u * 4u) << threads;
+  }
+  rs.abortAfterTiles = -1;
+  rs.threads = 2;
+  FrameBuffer again, ref;
+  render(c.scene, cam, rs, 64, 64, again);
+  rs.threads = 1;
+  render(c.scene, cam, rs, 64, 64, ref);
+  EXPECT_EQ(0, std::memcmp(again.color.data(), ref.color.data(), ref.color.size() * sizeof(Color4)));
+}
+
+TEST(Camera, RaysReprojectToTheirPixels) {
+  for (bool parallel : {false, true}) {
+    Vec3 eye(1e7 + 3.0, 2.0, -5.0), focal(1e7, 0.5, 0.0);
+    Camera cam = parallel ? Camera::parallel(eye, focal, Vec3(0, 1, 0), 2.0, 1.25, 0.1, 50.0)
+                          : Camera::perspective(eye, focal, Vec3(0, 1, 0), 35.0, 1.25, 0.1, 50.0);
+    for (double px : {0.5, 17.25, 99.5})
+      for (double py : {0.5, 40.0, 79.5}) {
+        Ray r = cam.rayPixel(px, py, 100, 80);
+        EXPECT_NEAR(glm::length(r.dir), 1.0, 1e-12);
+        Vec3 p = r.origin + 3.0 * r.dir;
+        Vec4 clip = cam.worldToClip() * Vec4(p, 1.0);
+        // 1e-5 pixel: the camera sits 1e7 units from the origin, where a double has ~2e-9 absolute resolution and
+        // the inverse projection amplifies it ~20x; a float pipeline would be off by whole pixels here
+        EXPECT_NEAR((clip.x / clip.w * 0.5 + 0.5) * 100, px, 1e-5);
+        EXPECT_NEAR((clip.y / clip.w * 0.5 + 0.5) * 80, py, 1e-5);
+        EXPECT_NEAR(cam.glDepth(r.origin), 0.0, 1e-6);  // rays start on the near plane
+      }
+  }
+}
+
+TEST(Image, PngRoundTripHeaderAndCrc) {
+  const uint8_t ihdr[] = {'I', 'E', 'N', 'D'};
+  EXPECT_EQ(crc32(ihdr, 4), 0xAE426082u);  // the well-known CRC of an empty IEND chunk
+  FrameBuffer fb;
+  fb.resize(3, 2);
+  fb.color[0] = Color4(2.0f, -1.0f, std::nanf(""), 0.5f);
+  auto px = toRgba8(fb);
+  EXPECT_EQ(px[0], 255);
+  EXPECT_EQ(px[1], 0);
+  EXPECT_EQ(px[2], 0);
+  EXPECT_EQ(px[3], 128);
+  std::string path = ::testing::TempDir() + "/t.png";
+  ASSERT_TRUE(writePng(path, 3, 2, px));
+  FILE* f = std::fopen(path.c_str(), "rb");
+  ASSERT_TRUE(f);
+  unsigned char sig[8];
+  ASSERT_EQ(std::fread(sig, 1, 8, f), 8u);
+  std::fclose(f);
+  EXPECT_EQ(sig[1], 'P');
+  EXPECT_EQ(sig[2], 'N');
+}
+
+// The 8-bit conversion rounds as lround does, at and around every half level; the zlib stream's Adler-32 (summed
+// with a deferred modulo) equals the per-byte definition on an image of several 5552-byte blocks.
+TEST(Image, Rgba8RoundingAndPngAdler) {
+  FrameBuffer fb;
+  fb.resize(256, 40);  // 41 kB of scanlines: white rows (all bytes 255) would overflow a too-long modulo block
+  for (int k = 0; k < 256; ++k) {
+    const float half = (float(k) + 0.5f) / 255.0f;
+    fb.color[std::size_t(k)] = Color4(half, std::nextafter(half, 0.0f), std::nextafter(half, 1.0f), float(k) / 255.0f);
+  }
+  for (std::size_t i = 256; i < fb.color.size(); ++i)
+    fb.color[i] = i < 768
+                      ? Color4(hashFloat(uint32_t(i), 1u), hashFloat(uint32_t(i), 2u), hashFloat(uint32_t(i), 3u), 1.0f)
+                      : Color4(1.0f);
+  const std::vector<uint8_t> px = toRgba8(fb);
+  for (std::size_t i = 0; i < fb.color.size(); ++i)
+    for (int c = 0; c < 4; ++c)
+      ASSERT_EQ(px[4 * i + std::size_t(c)], uint8_t(std::lround(std::clamp(fb.color[i][c], 0.0f, 1.0f) * 255.0f)))
+          << "pixel " << i << " channel " << c;
+
+  std::string path = ::testing::TempDir() + "/adler.png";
+  ASSERT_TRUE(writePng(path, fb.width, fb.height, px));
+  FILE* f = std::fopen(path.c_str(), "rb");
+  ASSERT_TRUE(f);
+  std::vector<uint8_t> file;
+  for (int ch; (ch = std::fgetc(f)) != EOF;) file.push_back(uint8_t(ch));
+  std::fclose(f);
+  // Scanlines as the PNG stores them (filter byte 0, top row first), and their Adler-32 byte by byte
+  uint32_t a = 1, b = 0;
+  for (int y = fb.height - 1; y >= 0; --y)
+    for (int k = -1; k < fb.width * 4; ++k) {
+      a = (a + (k < 0 ? 0u : px[std::size_t(y) * fb.width * 4 + std::size_t(k)])) % 65521;
+      b = (b + a) % 65521;
+    }
+  // The zlib stream ends with the Adler-32, just before the IDAT chunk's CRC; IEND (12 bytes) follows
+  ASSERT_GT(file.size(), 20u);
+  const std::size_t end = file.size() - 12 - 4;
+  const uint32_t stored = uint32_t(file[end - 4]) << 24 | uint32_t(file[end - 3]) << 16 | uint32_t(file[end - 2]) << 8 |
+                          uint32_t(file[end - 1]);
+  EXPECT_EQ(stored, (b << 16) | a);
+}
+
+#ifdef __linux__
+// threads = 0 means the cores the process may run on (mpirun binds ranks to cores, taskset, cpusets).
+TEST(Renderer, AllCoresMeansTheAffinityMask) {
+  cpu_set_t saved;
+  ASSERT_EQ(sched_getaffinity(0, sizeof saved, &saved), 0);
+  int first = 0;
+  while (!CPU_ISSET(first, &saved)) ++first;
+  cpu_set_t one;
+  CPU_ZERO(&one);
+  CPU_SET(first, &one);
+  ASSERT_EQ(sched_setaffinity(0, sizeof one, &one), 0);
+  const int bound = hardwareThreads();
+  const std::string report = frameReport(FrameStats(), SceneStats(), CommitStats(), 8, 8, 0.0, nullptr);
+  ASSERT_EQ(sched_setaffinity(0, sizeof saved, &saved), 0);
+  EXPECT_EQ(bound, 1);
+  if (std::thread::hardware_concurrency() > 1) {  // the frame report says why fewer threads than cores are used
+    EXPECT_NE(report.find("CPU affinity: 1 of"), std::string::npos) << report;
+    EXPECT_LT(report.find("CPU affinity"), report.find("\n  time")) << report;
+  }
+  EXPECT_EQ(hardwareThreads(), CPU_COUNT(&saved));
+}
+#endif
+
+// Progress is reported on the calling thread only, never decreases, and ends at exactly 1 even when the worker
+// threads take every tile (tiny tiles, more threads than cores).
+TEST(Renderer, ProgressIsMonotonicOnCallerAndReachesOne) {
+  Classic c;
+  Camera cam = c.cs.make(1.0, c.scene.bounds());
+  for (int threads : {1, 2, 5}) {
+    RenderSettings rs;
+    rs.tileSize = 4;
+    rs.threads = threads;
+    std::vector<double> seen;
+    const std::thread::id caller = std::this_thread::get_id();
+    bool offThread = false;
+    rs.progress = [&](double f) {
+      offThread |= std::this_thread::get_id() != caller;
+      seen.push_back(f);
+    };
+    FrameBuffer fb;
+    FrameStats fs = render(c.scene, cam, rs, 64, 64, fb);
+    EXPECT_FALSE(fs.aborted) << threads;
+    EXPECT_FALSE(offThread) << threads;
+    ASSERT_FALSE(seen.empty()) << threads;
+    EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end())) << threads;
+    EXPECT_EQ(seen.back(), 1.0) << threads;
+  }
+}
+
+// An exception thrown while tiles are traced on several threads (here: by the progress callback) reaches the
+// caller after all workers have stopped, instead of terminating the process.
+TEST(Renderer, ExceptionInFrameIsRethrownAfterJoin) {
+  Classic c;
+  Camera cam = c.cs.make(1.0, c.scene.bounds());
+  RenderSettings rs;
+  rs.tileSize = 4;
+  rs.threads = 3;
+  rs.progress = [](double f) {
+    if (f > 0.1) throw std::runtime_error("observer failed");
+  };
+  FrameBuffer fb;
+  EXPECT_THROW(render(c.scene, cam, rs, 64, 64, fb), std::runtime_error);
+  rs.progress = nullptr;
+  FrameStats fs = render(c.scene, cam, rs, 64, 64, fb);  // and the next frame is complete
+  EXPECT_EQ(fs.rays.primary, 64u * 64u);
+}
+
+// The safety nets count what they catch: a valid frame catches nothing; a non-finite material value smuggled in
+// after commit (bypassing the sanitiser) is zeroed in every sample it reaches, never reaches a pixel, and is
+// counted in the statistics and the report.
+TEST(Renderer, SafetyNetsCountWhatTheyCatch) {
+  Classic c;
+  Camera cam = c.cs.make(1.0, c.scene.bounds());
+  RenderSettings rs;
+  rs.threads = 2;
+  FrameBuffer fb;
+  FrameStats clean = render(c.scene, cam, rs, 32, 32, fb);
+  EXPECT_EQ(clean.rays.safetyNetCatches(), 0u);
+  for (std::size_t m = 0; m < c.scene.materialCount(); ++m)
+    c.scene.material(uint32_t(m)).diffuseColor = Color(std::numeric_limits<float>::quiet_NaN());
+  FrameStats bad = render(c.scene, cam, rs, 32, 32, fb);
+  EXPECT_GT(bad.rays.nonFiniteSamples, 0u);
+  EXPECT_EQ(bad.rays.safetyNetCatches(), bad.rays.nonFiniteSamples);  // samples zeroed: pixels stay finite
+  for (const Color4& px : fb.color)
+    for (int k = 0; k < 4; ++k) EXPECT_TRUE(std::isfinite(px[k]));
+  const std::string report = frameReport(bad, c.scene.stats(), CommitStats{}, 32, 32, 0.0, nullptr);
+  EXPECT_NE(report.find(std::to_string(bad.rays.nonFiniteSamples) + " non-finite samples"), std::string::npos)
+      << report;
+}
+
+// Negative controls of the other three safety nets: each is fed input that trips it (input the scene's sanitiser
+// or the camera's contract would not let through) and must count it, while what it guards stays in range.
+namespace {
+// A quad filling the view of camera(): z = -1, seen from the origin
+Scene quadScene(const Material& m, float backgroundAlpha) {
+  Scene s;
+  s.addInstance(s.addMesh(makeGrid(Vec3(-50, -50, -1), Vec3(100, 0, 0), Vec3(0, 100, 0), 1, 1)), Mat4(1.0),
+                s.addMaterial(m));
+  s.backgroundAlpha = backgroundAlpha;
+  s.commit();
+  return s;
+}
+Camera quadCamera() { return Camera::perspective(Vec3(0), Vec3(0, 0, -1), Vec3(0, 1, 0), 40.0, 1.0, 0.1, 10.0); }
+void expectInRange(const FrameBuffer& fb) {
+  for (std::size_t i = 0; i < fb.color.size(); ++i) {
+    for (int k = 0; k < 4; ++k) ASSERT_TRUE(std::isfinite(fb.color[i][k])) << i;
+    ASSERT_GE(fb.color[i].a, 0.0f) << i;
+    ASSERT_LE(fb.color[i].a, 1.0f) << i;
+    ASSERT_GE(fb.depth[i], 0.0f) << i;
+    ASSERT_LE(fb.depth[i], 1.0f) << i;
+  }
+}
+}  // namespace
+
+// clampedAlpha: a transmittance of 2 (the sanitiser caps kr + kt at 1) smuggled in after commit lets a straight
+// path escape with weight 2, so coverage 1 - 2 < 0 must be clamped and counted.
+TEST(Renderer, SafetyNetClampedAlphaTripsOnTransmittanceAboveOne) {
+  Material m;
+  m.opacity = 0.5f;
+  m.transmittance = Color(0.5f);  // transmissive at commit, so the refraction kernel is compiled in
+  Scene s = quadScene(m, 0.0f);
+  RenderSettings rs;
+  rs.threads = 1;
+  FrameBuffer fb;
+  const FrameStats clean = render(s, quadCamera(), rs, 8, 8, fb);
+  EXPECT_EQ(clean.rays.safetyNetCatches(), 0u);
+  s.material(0).transmittance = Color(2.0f);
+  const FrameStats bad = render(s, quadCamera(), rs, 8, 8, fb);
+  EXPECT_EQ(bad.rays.clampedAlpha, 64u);
+  EXPECT_EQ(bad.rays.safetyNetCatches(), bad.rays.clampedAlpha);
+  expectInRange(fb);
+}
+
+// clampedDepth: a "camera" whose near plane lies behind the eye (near < 0; vtkCamera requires near > 0) maps
+// every point between near and far but off the planes outside [-1, 1] in NDC: the hit's depth must be clamped
+// and counted, per sample.
+TEST(Renderer, SafetyNetClampedDepthTripsOnNearPlaneBehindTheEye) {
+  Scene s = quadScene(Material{}, 1.0f);
+  RenderSettings rs;
+  rs.threads = 1;
+  FrameBuffer fb;
+  EXPECT_EQ(render(s, quadCamera(), rs, 8, 8, fb).rays.safetyNetCatches(), 0u);
+  const Camera bad = Camera::perspective(Vec3(0), Vec3(0, 0, -1), Vec3(0, 1, 0), 40.0, 1.0, -0.5, 10.0);
+  for (int spp : {1, 4}) {
+    rs.samplesPerPixel = spp;
+    const FrameStats fs = render(s, bad, rs, 8, 8, fb);
+    EXPECT_EQ(fs.rays.clampedDepth, 64u * spp);
+    EXPECT_EQ(fs.rays.safetyNetCatches(), fs.rays.clampedDepth);
+    expectInRange(fb);
+  }
+}
+
+// nonFinitePixels: a background of 3e38 (the sanitiser caps colours far below) smuggled in after commit gives
+// finite samples whose sum over two samples overflows to infinity: the pixel must be zeroed and counted, the
+// samples not.
+TEST(Renderer, SafetyNetNonFinitePixelsTripsOnOverflowingSum) {
+  Scene s;
+  s.commit();
+  RenderSettings rs;
+  rs.threads = 1;
+  rs.samplesPerPixel = 2;
+  FrameBuffer fb;
+  EXPECT_EQ(render(s, quadCamera(), rs, 8, 8, fb).rays.safetyNetCatches(), 0u);
+  s.background = Color(3e38f);
+  const FrameStats fs = render(s, quadCamera(), rs, 8, 8, fb);
+  EXPECT_EQ(fs.rays.nonFinitePixels, 64u);
+  EXPECT_EQ(fs.rays.nonFiniteSamples, 0u);
+  EXPECT_EQ(fs.rays.safetyNetCatches(), fs.rays.nonFinitePixels);
+  expectInRange(fb);
+  const std::string report = frameReport(fs, s.stats(), CommitStats{}, 8, 8, 0.0, nullptr);
+  EXPECT_NE(report.find("64 non-finite pixels"), std::string::npos) << report;
+}

@@ -1,0 +1,64 @@
+#include "scene/material.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace whitted {
+
+namespace {
+
+uint32_t fixColor(Color& c, float lo, float hi, uint32_t bit) {
+  return sanitizeColor(c, lo, hi) ? bit : 0;
+}
+
+}  // namespace
+
+uint32_t sanitizeMaterial(Material& m) {
+  uint32_t fixed = 0;
+  fixed |= fixColor(m.ambientColor, 0.0f, 1e6f, 1u << 0);
+  fixed |= fixColor(m.diffuseColor, 0.0f, 1e6f, 1u << 0);
+  fixed |= fixColor(m.specularColor, 0.0f, 1e6f, 1u << 0);
+  fixed |= sanitizeValue(m.ambient, 0.0f, 1e6f, 0.0f, 1u << 1);
+  fixed |= sanitizeValue(m.diffuse, 0.0f, 1e6f, 0.0f, 1u << 1);
+  fixed |= sanitizeValue(m.specular, 0.0f, 1e6f, 0.0f, 1u << 1);
+  fixed |= sanitizeValue(m.specularPower, 0.0f, 1e6f, 1.0f, 1u << 2);
+  fixed |= sanitizeValue(m.opacity, 0.0f, 1.0f, 1.0f, 1u << 3);
+  fixed |= fixColor(m.reflectance, 0.0f, 1.0f, 1u << 4);
+  fixed |= fixColor(m.transmittance, 0.0f, 1.0f, 1u << 5);
+  if (!std::isfinite(m.ior) || m.ior <= 0.0f) {
+    m.ior = 1.0f;
+    fixed |= 1u << 6;
+  }
+  fixed |= fixColor(m.absorption, 0.0f, 1e30f, 1u << 7);
+  fixed |= fixColor(m.edgeColor, 0.0f, 1.0f, 1u << 0);
+  fixed |= sanitizeValue(m.edgeWidth, 0.0f, 1e6f, 0.0f, 1u << 1);
+
+  // Energy: kr + kt <= 1 per channel. Above, scale both by 1 / max channel sum; the factor is stepped down by an
+  // ulp at a time should float rounding leave the largest sum above 1 (one or two steps at most)
+  const Color kr = m.reflectance, kt = m.transmittance;
+  const float maxSum = maxComponent(kr + kt);
+  if (maxSum > 1.0f) {
+    float scale = 1.0f / maxSum;
+    while (maxComponent(kr * scale + kt * scale) > 1.0f) scale = std::nextafter(scale, 0.0f);
+    m.reflectance = kr * scale;
+    m.transmittance = kt * scale;
+    fixed |= kMaterialEnergyScaled;
+  }
+  return fixed;
+}
+
+Material edgeMaterial(const Material& m) {
+  Material e = m;
+  e.ambientColor = e.diffuseColor = m.edgeColor;
+  e.colorSource = ColorSource::Material;
+  e.texture = -1;
+  e.reflectance = Color(0.0f);
+  e.transmittance = glm::min(m.transmittance, Color(1.0f - m.opacity));
+  e.ior = 1.0f;
+  e.absorption = Color(0.0f);
+  e.edgeWidth = 0.0f;
+  e.backMaterial = -1;
+  return e;
+}
+
+}  // namespace whitted

@@ -1,0 +1,100 @@
+#include "scenes/stiff_scenes.h"
+
+namespace whitted {
+
+namespace {
+
+Material diffuseMaterial(Color c, float kr = 0.0f) {
+  Material m;
+  m.ambient = 0.05f;
+  m.diffuse = 0.9f;
+  m.diffuseColor = c;
+  m.specular = 0.3f;
+  m.specularPower = 20.0f;
+  m.reflectance = Color(kr);
+  return m;
+}
+
+Material glass(float kt, float kr, float ior, float opacity) {
+  Material m = diffuseMaterial(Color(0.9f, 0.95f, 1.0f));
+  m.opacity = opacity;
+  m.transmittance = Color(kt);
+  m.reflectance = Color(kr);
+  m.ior = ior;
+  return m;
+}
+
+void addMesh(Scene& s, TriangleMesh mesh, const Material& m) {
+  s.addInstance(s.addMesh(std::move(mesh)), Mat4(1.0), s.addMaterial(m));
+}
+
+void addSphere(Scene& s, const Vec3& c, double r, const Material& m) {
+  SphereSet set;
+  set.centers = {c};
+  set.radii = {r};
+  s.addInstance(s.addSpheres(std::move(set)), Mat4(1.0), s.addMaterial(m));
+}
+
+}  // namespace
+
+TriangleMesh makeBoxMesh(const Vec3& lo, const Vec3& hi) {
+  TriangleMesh m;
+  for (int i = 0; i < 8; ++i)
+    m.positions.push_back(Vec3((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z));
+  const uint32_t f[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (auto& q : f) {
+    m.triangles.push_back({q[0], q[1], q[2]});
+    m.triangles.push_back({q[0], q[2], q[3]});
+  }
+  return m;
+}
+
+Light makePointLight(const Vec3& p) {
+  Light l;
+  l.positional = true;
+  l.position = p;
+  l.focalPoint = Vec3(0.0);
+  l.coneAngle = 180.0;
+  return l;
+}
+
+void buildFacingMirrorsScene(Scene& s, CameraSpec& cam) {
+  Material mirror = diffuseMaterial(Color(0.6f), 0.9f);
+  mirror.diffuse = 0.1f;
+  addMesh(s, makeGrid(Vec3(-0.5, -1, 4), Vec3(0, 0, -40), Vec3(0, 2, 0), 1, 1), mirror);
+  addMesh(s, makeGrid(Vec3(0.5, -1, 4), Vec3(0, 2, 0), Vec3(0, 0, -40), 1, 1), mirror);
+  addMesh(s, makeGrid(Vec3(-0.5, -1, -36), Vec3(1, 0, 0), Vec3(0, 2, 0), 1, 1), diffuseMaterial(Color(0.3f, 0.8f, 0.3f)));
+  addMesh(s, makeGrid(Vec3(-0.5, -1, 4), Vec3(1, 0, 0), Vec3(0, 0, -40), 1, 1), diffuseMaterial(Color(0.8f)));
+  addSphere(s, Vec3(0.1, -0.6, -3), 0.3, diffuseMaterial(Color(0.9f, 0.2f, 0.1f)));
+  s.lights().push_back(makePointLight(Vec3(0, 0.8, 2)));
+  s.background = Color(0.2f, 0.3f, 0.5f);
+  cam.eye = Vec3(0.0, 0.0, 3.5);
+  cam.focal = Vec3(0.35, -0.1, 0.0);
+  cam.viewAngle = 50.0;
+}
+
+void buildNestedGlassScene(Scene& s, CameraSpec& cam) {
+  addSphere(s, Vec3(0, 0, 0), 1.0, glass(0.9f, 0.1f, 1.5f, 0.05f));
+  addSphere(s, Vec3(0.1, 0, 0), 0.55, glass(0.8f, 0.2f, 1.33f, 0.05f));
+  addSphere(s, Vec3(0.15, -0.1, 0), 0.2, diffuseMaterial(Color(1.0f, 0.5f, 0.1f)));
+  addMesh(s, makeGrid(Vec3(-4, -1.05, 4), Vec3(8, 0, 0), Vec3(0, 0, -8), 1, 1), diffuseMaterial(Color(0.7f)));
+  s.lights().push_back(makePointLight(Vec3(1.5, 3, 2)));
+  s.background = Color(0.3f, 0.35f, 0.45f);
+  cam.eye = Vec3(0.4, 0.8, 3.2);
+  cam.focal = Vec3(0, -0.1, 0);
+  cam.viewAngle = 40.0;
+}
+
+void buildLightInGlassScene(Scene& s, CameraSpec& cam) {
+  addMesh(s, makeBoxMesh(Vec3(-0.8, -0.3, -0.8), Vec3(0.8, 1.3, 0.8)), glass(0.35f, 0.1f, 1.5f, 0.1f));
+  addMesh(s, makeBoxMesh(Vec3(-0.4, 0.1, -0.4), Vec3(0.4, 0.9, 0.4)), glass(0.35f, 0.1f, 1.5f, 0.1f));
+  addMesh(s, makeGrid(Vec3(-5, -0.3, 5), Vec3(10, 0, 0), Vec3(0, 0, -10), 1, 1), diffuseMaterial(Color(0.8f)));
+  addSphere(s, Vec3(1.6, 0.2, 0.5), 0.5, diffuseMaterial(Color(0.2f, 0.4f, 0.9f)));
+  s.lights().push_back(makePointLight(Vec3(0, 0.5, 0)));
+  s.background = Color(0.05f);
+  cam.eye = Vec3(1.0, 2.5, 4.5);
+  cam.focal = Vec3(0.3, 0.2, 0);
+  cam.viewAngle = 45.0;
+}
+
+}  // namespace whitted

@@ -1,0 +1,56 @@
+// Cameras: perspective and parallel, built from VTK-style parameters or directly from an inverse view-projection
+// matrix (VTK's composite projection, incl. tiled and IceT viewports). Pixel coordinates have their origin at the
+// bottom-left corner (OpenGL / VTK order); pixel (i, j) covers [i, i+1) x [j, j+1).
+#pragma once
+
+#include "util/math.h"
+
+namespace whitted {
+
+class Camera {
+ public:
+  Camera() = default;
+
+  /// Builds from a world -> clip matrix M (OpenGL convention, column vectors: clip = M * (x, y, z, 1)).
+  /// Rays start on the near plane (z_ndc = -1), like OpenGL's clipping.
+  static Camera fromViewProjection(const Mat4& worldToClip);
+
+  /// Perspective camera as vtkCamera: eye, focal point, view-up, vertical view angle in degrees, aspect
+  /// (width/height), near and far clipping distances (> 0).
+  static Camera perspective(const Vec3& eye, const Vec3& focal, const Vec3& up, double viewAngleDeg, double aspect,
+                            double nearDist, double farDist);
+
+  /// Parallel camera as vtkCamera with ParallelProjection on: parallelScale is half the view height.
+  static Camera parallel(const Vec3& eye, const Vec3& focal, const Vec3& up, double parallelScale, double aspect,
+                         double nearDist, double farDist);
+
+  /// Ray through normalised device coordinates (x, y in [-1, 1]). Unit direction; tMin = 0 at the near plane,
+  /// tMax at the far plane.
+  Ray rayNdc(double x, double y) const;
+
+  /// Ray through a point of a width x height image, in continuous pixel coordinates.
+  Ray rayPixel(double px, double py, int width, int height) const {
+    return rayNdc(2.0 * px / width - 1.0, 2.0 * py / height - 1.0);
+  }
+
+  /// OpenGL window depth (0.5 * z_ndc + 0.5) of a world point; outside [0,1] when clipped.
+  double glDepth(const Vec3& world) const;
+
+  const Mat4& worldToClip() const { return worldToClip_; }
+  /// World-space unit vector pointing "up" on screen (for gradient environments).
+  Vec3 up() const { return up_; }
+  /// World-space unit view direction (through the screen centre).
+  Vec3 viewDirection() const { return viewDir_; }
+
+ private:
+  Mat4 worldToClip_{1.0};
+  Mat4 clipToWorld_{1.0};
+  /// Performance note: the z and w columns of clipToWorld_ applied to the near (z = -1) and far (z = 1) planes,
+  /// summed once per camera. glm forms M * (x, y, z, 1) as (c0 x + c1 y) + (c2 z + c3), so adding these to
+  /// c0 x + c1 y gives the very same bits with a quarter of the multiplications.
+  Vec4 nearZW_{0.0, 0.0, -1.0, 1.0}, farZW_{0.0, 0.0, 1.0, 1.0};
+  Vec3 up_{0.0, 1.0, 0.0};
+  Vec3 viewDir_{0.0, 0.0, -1.0};
+};
+
+}  // namespace whitted

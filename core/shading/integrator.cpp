@@ -1,0 +1,677 @@
+#include "shading/integrator.h"
+
+#include <algorithm>
+#include <new>
+#include <type_traits>
+
+namespace whitted {
+
+RayStats& RayStats::operator+=(const RayStats& o) {
+  primary += o.primary;
+  shadow += o.shadow;
+  reflection += o.reflection;
+  refraction += o.refraction;
+  savedByThreshold += o.savedByThreshold;
+  savedByDepth += o.savedByDepth;
+  nodesVisited += o.nodesVisited;
+  boundRays += o.boundRays;
+  nonFiniteSamples += o.nonFiniteSamples;
+  clampedAlpha += o.clampedAlpha;
+  clampedDepth += o.clampedDepth;
+  nonFinitePixels += o.nonFinitePixels;
+  return *this;
+}
+
+static_assert(std::is_trivially_destructible_v<Material>, "radiance() keeps an edge material in a union");
+
+Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings, const Vec3& cameraUp)
+    : scene_(scene), s_(settings), up_(cameraUp) {
+  // A light of zero colour or intensity adds nothing (and traces no shadow ray): left out here
+  for (const Light& l : scene.lights()) {
+    PreparedLight pl = prepareLight(l);
+    if (maxComponent(pl.radiance) > 0.0f) lights_.push_back(pl);
+  }
+  s_.maxDepth = std::max(0, s_.maxDepth);
+  extraLevels_ = s_.truncationLookahead > 0 && s_.truncationTolerance > 0.0f
+                     ? std::max(0, s_.truncationLookaheadMax - s_.truncationLookahead)
+                     : 0;
+  if (!(s_.contributionThreshold >= 0.0f)) s_.contributionThreshold = 0.0f;
+  const Features& f = scene.features();
+  // Leave out what the scene cannot use: each flag removes a whole mechanism from the compiled kernel
+  refract_ = f.transmissive && s_.maxDepth > 0;
+  reflect_ = s_.reflections && s_.maxDepth > 0 && (f.reflective || (f.transmissive && s_.refractions));
+  shadows_ = s_.shadows && f.shadowLights;
+  static constexpr Kernel table[8] = {
+      &Integrator::radiance<false, false, false>, &Integrator::radiance<false, false, true>,
+      &Integrator::radiance<false, true, false>,  &Integrator::radiance<false, true, true>,
+      &Integrator::radiance<true, false, false>,  &Integrator::radiance<true, false, true>,
+      &Integrator::radiance<true, true, false>,   &Integrator::radiance<true, true, true>};
+  kernel_ = table[(reflect_ ? 4 : 0) | (refract_ ? 2 : 0) | (shadows_ ? 1 : 0)];
+  // maxDepth 0 leaves the secondary machinery out, yet the reference would trace it: each hit's kr + kt is cut
+  cutAtDepthZero_ = s_.maxDepth == 0 && (f.transmissive || (s_.reflections && f.reflective));
+  s_.truncationReferenceDepth = std::max(0, s_.truncationReferenceDepth);
+  buildRemainingBounds();
+}
+
+/// The shading frame at a hit (radiance's first step, also taken ahead for a block's first hits).
+struct Integrator::HitFrame {
+  SurfacePoint sp;
+  Vec3 d, nf, ngf, v;  ///< Ray direction (unit); shading and geometric normals facing the ray; view vector.
+  bool backFace = false;
+  double pathHere = 0.0;           ///< Path length to the hit (edge footprints).
+  const Material* base = nullptr;  ///< The hit's material (the back material on back faces).
+  bool onEdge = false;             ///< Within an edge: edge holds the edge material.
+  // Constructed only on edge pixels. Performance note: a union, not std::optional, whose storage the compiler
+  // zero-fills at every hit (Material is trivially destructible, so nothing needs to end its life)
+  union EdgeSlot {
+    EdgeSlot() {}
+    Material m;
+  } edge;
+  const Material& material() const { return onEdge ? edge.m : *base; }
+};
+
+/// A camera ray's first hit and its shadow rays' answers, found ahead for a block (traceBlock).
+struct Integrator::FirstHit {
+  bool found = false;
+  Hit hit;
+  HitFrame frame;
+  unsigned lights = 0;  ///< Bit j: shadow ray j recorded (ray[j]) and answered (t[j], cut[j]).
+  // Performance note: the arrays in a union, left unconstructed (Ray's members have initialisers): a block would
+  // otherwise write ~1 KB per camera ray before it is used
+  union Slots {
+    Slots() {}
+    struct {
+      Ray ray[kPacketLights];
+      Color t[kPacketLights];
+      bool cut[kPacketLights];
+    } s;
+  } slots;
+  Ray& ray(int j) { return slots.s.ray[j]; }
+  Color& t(int j) { return slots.s.t[j]; }
+  bool& cut(int j) { return slots.s.cut[j]; }
+  const Color& t(int j) const { return slots.s.t[j]; }
+  bool cut(int j) const { return slots.s.cut[j]; }
+};
+
+/// Shadow rays traced one by one (Scene::transmittance).
+struct Integrator::TraceShadows {
+  static constexpr bool kCollect = false;
+  const Scene& scene;
+  Color operator()(int /*light*/, const Ray& sr, float cutoff, RayStats& st, bool& cut) const {
+    return scene.transmittance(sr, cutoff, &st.nodesVisited, &cut);
+  }
+};
+
+/// Shadow rays only recorded (the first kPacketLights lights), for a packet.
+struct Integrator::CollectShadows {
+  static constexpr bool kCollect = true;
+  FirstHit& fh;
+  Color operator()(int light, const Ray& sr, float, RayStats&, bool&) const {
+    if (light < kPacketLights) {
+      fh.ray(light) = sr;
+      fh.lights |= 1u << light;
+    }
+    return Color(1.0f);
+  }
+};
+
+/// Shadow rays answered by the packets (lights beyond those recorded traced one by one).
+struct Integrator::AnsweredShadows {
+  static constexpr bool kCollect = false;
+  const Scene& scene;
+  const FirstHit& fh;
+  Color operator()(int light, const Ray& sr, float cutoff, RayStats& st, bool& cut) const {
+    if (light < kPacketLights && (fh.lights >> light & 1)) {
+      cut = fh.cut(light);
+      return fh.t(light);
+    }
+    return scene.transmittance(sr, cutoff, &st.nodesVisited, &cut);
+  }
+};
+
+/// Shadow rays of a bound ray's hit, traced without the threshold: the exact transmittance the reference sees.
+struct Integrator::ExactShadows {
+  static constexpr bool kCollect = false;
+  const Scene& scene;
+  Color operator()(int /*light*/, const Ray& sr, float /*cutoff*/, RayStats& st, bool& cut) const {
+    return scene.transmittance(sr, 0.0f, &st.nodesVisited, &cut);
+  }
+};
+
+void Integrator::startPath(const Ray& ray, const Color& screenBackground, PathState& ps) const {
+  ps.screenBackground = screenBackground;
+  // Edge footprints grow with the distance from the eye; camera rays may start on the near plane
+  if (s_.pixelAngle > 0.0) ps.pathLength = glm::length(ray.origin - s_.eye);
+}
+
+Sample Integrator::trace(const Ray& ray, RayStats& stats, const Color& screenBackground) const {
+  ++stats.primary;
+  double tHit = kInfinity;
+  Vec3 first(0.0);
+  PathState ps;
+  startPath(ray, screenBackground, ps);
+  const Color c = (this->*kernel_)(ray, 0, Color(1.0f), true, stats, ps, &tHit, &first, nullptr);
+  return finishPath(c, tHit, first, ps, stats);
+}
+
+void Integrator::traceBlock(const Ray* rays, int n, RayStats* stats, const Color* screenBackground, Sample* out) const {
+  // Scenes with transmissive surfaces trace single shadow rays: there a packet's blocked rays go again through
+  // transmittance() (Scene::occludedPacket), which made the classic scene's frame 6% slower
+  // (and closest-hit packets for the first hits without shadow packets beside them measured 0.76-1.00x there)
+  const bool shadowPackets = s_.packets && shadows_ && !scene_.features().transmissive;
+  const bool primaryPackets = s_.primaryPackets && !scene_.features().transmissive;
+  if ((!shadowPackets && !primaryPackets) || n < 2) {
+    for (int i = 0; i < n; ++i) out[i] = trace(rays[i], stats[i], screenBackground[i]);
+    return;
+  }
+  // First hits (one packet, or ray by ray) and their shadow rays (recorded by shadeLocal's own gating, so the same
+  // rays trace() casts)
+  FirstHit fh[kBlock];
+  PathState ps[kBlock];
+  unsigned found = 0;
+  if (primaryPackets) {
+    Hit hits[kBlock];
+    found = scene_.intersectPacket(rays, (1u << n) - 1u, hits, &stats[0].nodesVisited);
+    for (int i = 0; i < n; ++i) fh[i].hit = hits[i];
+  }
+  for (int i = 0; i < n; ++i) {
+    ++stats[i].primary;
+    startPath(rays[i], screenBackground[i], ps[i]);
+    if (primaryPackets)
+      fh[i].found = found >> i & 1;
+    else
+      fh[i].found = scene_.intersect(rays[i], fh[i].hit, &stats[i].nodesVisited);
+    if (!fh[i].found) continue;
+    HitFrame& f = fh[i].frame;
+    frameHit(rays[i], fh[i].hit, 0, ps[i], f);
+    if (!shadows_) continue;
+    const Material& m = f.material();
+    const bool inside = f.backFace && maxComponent(m.transmittance) > 0.0f;
+    Color highlight;
+    float shadowCut = 0.0f;
+    CollectShadows collect{fh[i]};
+    shadeLocal<true>(f.sp, m, f.nf, f.v, inside, stats[i], highlight, shadowCut, collect);
+  }
+  // Per light, the block's shadow rays as one packet; rays the packet cannot answer bit for bit are traced alone
+  for (int j = 0; j < std::min(kPacketLights, int(lights_.size())); ++j) {
+    unsigned active = 0;
+    Ray packet[kBlock];
+    for (int i = 0; i < n; ++i)
+      if (fh[i].lights >> j & 1) {
+        packet[i] = fh[i].ray(j);
+        active |= 1u << i;
+      }
+    if (active == 0) continue;
+    unsigned blocked = 0, single = active;
+    if (shadowPackets && (active & (active - 1)))
+      single = scene_.occludedPacket(packet, active, blocked, &stats[0].nodesVisited);
+    for (unsigned m = active; m; m &= m - 1) {
+      const int i = __builtin_ctz(m);
+      fh[i].cut(j) = false;
+      if (single >> i & 1)
+        fh[i].t(j) = scene_.transmittance(packet[i], s_.contributionThreshold, &stats[i].nodesVisited, &fh[i].cut(j));
+      else
+        fh[i].t(j) = Color(blocked >> i & 1 ? 0.0f : 1.0f);
+    }
+  }
+  // Shading and everything after the first hit, per ray
+  for (int i = 0; i < n; ++i) {
+    double tHit = kInfinity;
+    Vec3 first(0.0);
+    const Color c = (this->*kernel_)(rays[i], 0, Color(1.0f), true, stats[i], ps[i], &tHit, &first, &fh[i]);
+    out[i] = finishPath(c, tHit, first, ps[i], stats[i]);
+  }
+}
+
+Sample Integrator::finishPath(const Color& color, double tHit, const Vec3& first, const PathState& ps,
+                              RayStats& stats) const {
+  Sample out;
+  out.color = color;
+  out.hit = std::isfinite(tHit);
+  out.firstHit = first;
+  out.truncationBound = ps.truncation;
+
+  // Safety nets, counted so that tests can assert they caught nothing: coverage outside [0, 1] (beyond rounding)
+  // and non-finite values never reach a pixel
+  float alpha = 1.0f - ps.escaped;
+  if (alpha < -1e-5f || alpha > 1.0f + 1e-5f) ++stats.clampedAlpha;
+  out.alpha = std::clamp(alpha, 0.0f, 1.0f);
+  bool finite = std::isfinite(alpha);
+  for (int i = 0; i < 3; ++i)
+    if (!std::isfinite(out.color[i])) {
+      out.color[i] = 0.0f;
+      finite = false;
+    }
+  if (!finite) {
+    out.alpha = std::isfinite(alpha) ? out.alpha : 1.0f;
+    ++stats.nonFiniteSamples;
+  }
+  return out;
+}
+
+double fresnelDielectric(double cosi, double cost, double eta) {
+  // eta = n_incident / n_transmitted; cosines of the incident and transmitted angles (both >= 0)
+  const double rs = (eta * cosi - cost) / (eta * cosi + cost);
+  const double rp = (eta * cost - cosi) / (eta * cost + cosi);
+  const double f = 0.5 * (rs * rs + rp * rp);
+  return std::isfinite(f) ? std::clamp(f, 0.0, 1.0) : 1.0;  // 0/0 only at exactly grazing incidence: reflects
+}
+
+void Integrator::buildRemainingBounds() {
+  // What an escaping ray can see: the background behind the pixel (solid or gradient) or, bent or reflected, the
+  // environment in its direction (an image's texels are <= 1, else the background colours)
+  float escape = std::max(maxComponent(scene_.background),
+                          scene_.gradientBackground ? maxComponent(scene_.background2) : 0.0f);
+  if (scene_.environmentMap.projection != EnvironmentMap::Projection::None) escape = std::max(escape, 1.0f);
+  // Light reaching a surface: at most colour x intensity per light (distance and cone factors are <= 1)
+  float lightSum = 0.0f;
+  for (const Light& l : scene_.lights()) lightSum += l.intensity * maxComponent(l.color);
+
+  // Per material, a hit returns at most a + k x (what its secondary rays return): a the local term, k the largest
+  // kr + kt (Fresnel and total internal reflection move weight between them, never add any). Every material is
+  // counted, visible or not: a superset only loosens the bound. The local term is opacity x the clamped sum of
+  // the body colour at its share (bodyWeight / opacity, the body clamped to [0, 1]) and the highlight, so at most
+  // min(opacity, bodyWeight x min(1, body) + opacity x min(1, highlight)): a hit's opacity (vertex colour and
+  // texel alpha) is at most the material's, and so is its body weight; geometry colours and texels are <= 1.
+  struct Term {
+    float a, k;
+  };
+  std::vector<Term> terms;
+  float aMax = 0.0f, fixedPoint = escape;
+  bool diverges = false;
+  for (std::size_t i = 0; i < scene_.materialCount(); ++i) {
+    // A material with edges shades its edge pixels with its edge material: both count
+    const Material& base = scene_.material(uint32_t(i));
+    for (int variant = 0; variant < (base.edgeWidth > 0.0f ? 2 : 1); ++variant) {
+      const Material m = variant ? edgeMaterial(base) : base;
+      const float amb = m.ambient * std::max(1.0f, maxComponent(m.ambientColor));
+      const float dif = m.diffuse * std::max(1.0f, maxComponent(m.diffuseColor));
+      const float spe = m.specular * maxComponent(m.specularColor);
+      const float body = m.lighting ? amb + lightSum * dif : amb + dif;
+      const float highlight = m.lighting ? lightSum * spe : 0.0f;
+      const float a = std::min(m.opacity, bodyWeight(m, m.opacity) * std::min(1.0f, body) +
+                                              m.opacity * std::min(1.0f, highlight));
+      const Term t{a, maxComponent(m.reflectance + m.transmittance)};
+      terms.push_back(t);
+      aMax = std::max(aMax, t.a);
+      // The series B = max(escape, a + k B) has a finite fixed point unless a surface adds light (a > 0) without
+      // losing weight (k >= 1): two such facing surfaces would add a at every bounce
+      if (t.k < 1.0f)
+        fixedPoint = std::max(fixedPoint, t.a / (1.0f - t.k));
+      else if (t.a > 0.0f)
+        diverges = true;
+    }
+  }
+  seriesConverges_ = !diverges;
+  if (seriesConverges_) {
+    remaining_.assign(1, fixedPoint);  // bounds the infinite-depth image, so any deeper reference too
+    return;
+  }
+  // Divergent: bound what a reference at referenceDepth_ adds, level by level (n further levels of recursion)
+  referenceDepth_ = std::max(s_.maxDepth, s_.truncationReferenceDepth);
+  remaining_.assign(std::size_t(referenceDepth_) + 1, 0.0f);
+  remaining_[0] = std::max(escape, aMax);
+  for (std::size_t n = 1; n < remaining_.size(); ++n) {
+    float b = escape;
+    for (const Term& t : terms) b = std::max(b, t.a + t.k * remaining_[n - 1]);
+    remaining_[n] = b;
+  }
+}
+
+template <bool Shadows, typename ShadowFn>
+Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Vec3& n, const Vec3& v, bool inside,
+                             RayStats& st, Color& highlight, float& shadowCut, ShadowFn& shadows) const {
+  highlight = Color(0.0f);
+  // Colours as VTK's shader forms them (ambient = Ka*Ca, diffuse = Kd*Cd, specular = Ks*Cs)
+  Color ca = m.ambientColor, cd = m.diffuseColor;
+  if (sp.hasColor && m.colorSource != ColorSource::Material) {
+    Color c(sp.color);
+    if (m.colorSource != ColorSource::ScalarsDiffuse) ca = c;
+    if (m.colorSource != ColorSource::ScalarsAmbient) cd = c;
+  }
+  Color amb = m.ambient * ca, dif = m.diffuse * cd, spe = m.specular * m.specularColor;
+  if (!m.lighting) return amb + dif;
+  if (inside) amb *= m.transmittance;  // ambient light reaches the inside of a transmissive object only through it
+
+  // Leave out what cannot be seen: a surface with no diffuse and no specular term (a pure mirror or clear glass)
+  // traces no shadow ray, a light of zero colour or intensity none either, and pow() runs only with a specular
+  // term. The result is bit-identical: each skipped term would have added exactly 0.
+  const bool wantDiffuse = maxComponent(dif) > 0.0f, wantSpecular = maxComponent(spe) > 0.0f;
+  if (!wantDiffuse && !wantSpecular) return amb;
+  Color diffuse(0.0f), specular(0.0f);
+  for (int j = 0; j < int(lights_.size()); ++j) {
+    const PreparedLight& pl = lights_[std::size_t(j)];
+    const Light& light = *pl.light;
+    Color lc = pl.radiance;
+    LightSample ls = sampleLight(pl, sp.p);
+    double att = ls.attenuation;
+    double df = std::max(0.0, att * glm::dot(n, ls.toLight));
+    if (!(df > 0.0)) continue;  // VTK: specular only where df > 0
+    auto specularFactor = [&]() {
+      if (s_.headlightShading) return std::pow(df, double(m.specularPower));
+      Vec3 ld = -ls.toLight;
+      Vec3 r = ld - 2.0 * glm::dot(n, ld) * n;
+      // pow(0, power) is exactly 0 for power > 0: the highlight's far side costs no pow()
+      const double rv = std::max(0.0, glm::dot(r, v));
+      return rv > 0.0 || !(m.specularPower > 0.0f) ? att * std::pow(rv, double(m.specularPower)) : att * 0.0;
+    };
+
+    if constexpr (Shadows) {
+      if (light.castShadows) {
+        Ray sr;
+        sr.origin = offsetRayOrigin(sp.p, sp.pError, sp.ng, ls.toLight);
+        sr.dir = ls.toLight;
+        sr.tMin = 0.0;
+        // Stop just short of a point light (the light itself is not geometry)
+        sr.tMax = std::isfinite(ls.distance) ? glm::length(light.position - sr.origin) * (1.0 - 1e-9) : kInfinity;
+        bool cut = false;
+        Color t = shadows(j, sr, s_.contributionThreshold, st, cut);
+        if constexpr (ShadowFn::kCollect) continue;
+        ++st.shadow;
+        if (maxComponent(t) <= 0.0f) {
+          // Cut by the threshold, the transmittance was below it in every channel: at most that share of this
+          // light's diffuse and specular terms is missing. The tight bound traces the shadow ray again without
+          // the threshold (a bound ray): exactly the transmittance share is missing, 0 if something opaque lies
+          // beyond.
+          if (cut) {
+            const Color full = float(df) * lc * dif + (wantSpecular ? float(specularFactor()) * lc * spe : Color(0.0f));
+            if (s_.truncationLookahead > 0) {
+              ++st.boundRays;
+              shadowCut += maxComponent(scene_.transmittance(sr, 0.0f, &st.nodesVisited) * full);
+            } else {
+              shadowCut += s_.contributionThreshold * maxComponent(full);
+            }
+          }
+          continue;
+        }
+        lc *= t;
+      }
+    }
+
+    diffuse += float(df) * lc;
+    if (wantSpecular) specular += float(specularFactor()) * lc;
+  }
+  highlight = spe * specular;
+  return amb + dif * diffuse;
+}
+
+void Integrator::frameHit(const Ray& ray, const Hit& hit, int depth, const PathState& ps, HitFrame& f) const {
+  f.sp = scene_.surface(ray, hit);
+  const SurfacePoint& sp = f.sp;
+
+  // Orient normals toward the incoming ray (VTK flips normals of back faces)
+  f.d = glm::normalize(ray.dir);
+  f.backFace = glm::dot(sp.ng, f.d) > 0.0;
+  f.nf = f.backFace ? -sp.ns : sp.ns;
+  f.ngf = f.backFace ? -sp.ng : sp.ng;
+  f.v = (depth == 0 && s_.viewFromEye) ? glm::normalize(s_.eye - sp.p) : -f.d;
+
+  // The material: the back material on back faces (VTK's BackfaceProperty), the edge material within half the
+  // edge width of a drawn edge (lit as VTK lights lines over a surface: facing the viewer)
+  const Material* mp = &scene_.material(sp.material);
+  if (f.backFace && mp->backMaterial >= 0) mp = &scene_.material(uint32_t(mp->backMaterial));
+  f.base = mp;
+  f.onEdge = false;
+  f.pathHere = scene_.features().edges ? ps.pathLength + hit.t * glm::length(ray.dir) : 0.0;
+  if (scene_.features().edges && mp->edgeWidth > 0.0f) {
+    const double halfWidth = 0.5 * double(mp->edgeWidth) * (s_.pixelSize + s_.pixelAngle * f.pathHere);
+    if (halfWidth > 0.0 && scene_.edgeDistance(ray, hit, sp.p) <= halfWidth) {
+      new (&f.edge.m) Material(edgeMaterial(*mp));
+      f.onEdge = true;
+      f.nf = f.v;
+    }
+  }
+}
+
+template <bool Shadows, typename ShadowFn>
+Color Integrator::localTerm(const HitFrame& f, const Color& weight, RayStats& st, PathState& ps,
+                            ShadowFn& shadows) const {
+  const SurfacePoint& sp = f.sp;
+  const Material& m = f.material();
+  // Local shading, weighted by opacity as VTK blends it
+  float opacity = m.opacity * (sp.hasColor && m.colorSource != ColorSource::Material ? sp.color.a : 1.0f);
+  // Inside-ness is a property of the material, not of the kernel: an opaque back face keeps its ambient term
+  // whether or not the scene holds a transmissive actor elsewhere
+  const bool inside = f.backFace && maxComponent(m.transmittance) > 0.0f;
+  Color highlight;
+  float shadowCut = 0.0f;
+  const Color body = shadeLocal<Shadows>(sp, m, f.nf, f.v, inside, st, highlight, shadowCut, shadows);
+  // Light the threshold cut from shadow rays: clamping, the body share and the texture factor (<= 1) can only
+  // shrink it
+  if (shadowCut > 0.0f) ps.truncation += maxComponent(weight) * opacity * shadowCut;
+  Color texel(1.0f);
+  if (scene_.features().textures && m.texture >= 0 && sp.hasUV) {
+    Color4 tc = scene_.texture(uint32_t(m.texture)).sample(sp.uv.x, sp.uv.y);
+    texel = Color(tc);
+    opacity *= tc.a;
+  }
+  // The energy rule (bodyWeight): the body colour keeps the share of the opacity that reflection and transmission
+  // leave, the highlight the whole opacity. VTK's shader writes each surface's colour clamped to [0, 1] before
+  // blending it: so does the local term here, so a translucent surface over a highlight blends as VTK's image
+  // does, and a body share applies to the body colour as VTK would write it (clamped: an over-lit body cannot
+  // exceed its share). bodyShare is exactly 1 for VTK's translucency (x / x): that case computes VTK's blend.
+  const Color zero(0.0f), one(1.0f);
+  const float bw = bodyWeight(m, opacity);
+  const float bodyShare = bw < opacity ? bw / opacity : 1.0f;
+  Color local = bodyShare == 1.0f ? (body + highlight) * texel
+                                  : bodyShare * glm::clamp(body * texel, zero, one) + highlight * texel;
+  return opacity * glm::clamp(local, zero, one);
+}
+
+template <bool Reflect, bool Refract>
+void Integrator::secondaryRays(const HitFrame& f, SecondaryRays& out) const {
+  const Material& m = f.material();
+  const SurfacePoint& sp = f.sp;
+  const Vec3 &d = f.d, &nf = f.nf, &ngf = f.ngf;
+  Color& kr = out.kr;
+  Color& kt = out.kt;
+  kr = m.reflectance;
+  kt = m.transmittance;
+  out.haveReflected = out.haveRefracted = out.refractedStraight = false;
+
+  if constexpr (Refract) {
+    if (maxComponent(kt) > 0.0f) {
+      Vec3 tdir = d;
+      out.refractedStraight = true;
+      if (s_.refractions && m.ior != 1.0f) {
+        // Snell's law; entering vs exiting from the geometric normal
+        bool entering = !f.backFace;
+        double eta = entering ? 1.0 / m.ior : double(m.ior);
+        Vec3 n = glm::dot(nf, ngf) > 0.0 ? nf : ngf;
+        double cosi = std::min(1.0, std::max(0.0, -glm::dot(d, n)));
+        double sin2t = eta * eta * (1.0 - cosi * cosi);
+        out.refractedStraight = false;
+        if (sin2t >= 1.0) {
+          kr += kt;  // total internal reflection: the refracted share goes to the reflected ray
+          kt = Color(0.0f);
+        } else {
+          double cost = std::sqrt(1.0 - sin2t);
+          tdir = eta * d + (eta * cosi - cost) * n;
+          if (glm::dot(tdir, ngf) >= 0.0) tdir = eta * d + (eta * glm::dot(-d, ngf) - cost) * ngf;
+          if constexpr (Reflect) {
+            if (s_.fresnel) {
+              // Exact unpolarised dielectric Fresnel reflectance: 0 without an interface (IOR 1, not reached
+              // here), ((n-1)/(n+1))^2 at normal incidence, 1 at grazing. Only with a reflected ray to take the
+              // share: with reflections off, nothing is moved and nothing is lost.
+              float fr = float(fresnelDielectric(cosi, cost, eta));
+              kr += kt * fr;
+              kt *= 1.0f - fr;
+            }
+          }
+        }
+      }
+      if (maxComponent(kt) > 0.0f) {
+        out.refracted.dir = out.refractedStraight ? d : glm::normalize(tdir);
+        out.refracted.origin = offsetRayOrigin(sp.p, sp.pError, sp.ng, out.refracted.dir);
+        out.haveRefracted = true;
+      }
+    }
+  }
+  if constexpr (Reflect) {
+    if (maxComponent(kr) > 0.0f) {
+      Vec3& r = out.reflected.dir;
+      r = glm::normalize(d - 2.0 * glm::dot(d, nf) * nf);
+      if (glm::dot(r, ngf) <= 0.0) r = glm::normalize(d - 2.0 * glm::dot(d, ngf) * ngf);
+      out.reflected.origin = offsetRayOrigin(sp.p, sp.pError, sp.ng, r);
+      out.haveReflected = true;
+    }
+  }
+}
+
+// Beer-Lambert: what a refracted ray brings back after t units inside the medium of m. In double, and only where
+// there is absorption: a path longer than float's range must give exp(-inf) = 0, and no absorption must give 1, not
+// 0 x inf
+static void absorb(Color& c, const Material& m, double t) {
+  for (int i = 0; i < 3; ++i)
+    if (m.absorption[i] > 0.0f) c[i] *= float(std::exp(-double(m.absorption[i]) * t));
+}
+
+template <bool Reflect, bool Refract>
+Color Integrator::cutRayBound(const Ray& ray, int depth, int levels, int extra, const Color& weight, bool straight,
+                              double pathLength, RayStats& st, PathState& ps, double* tHit, float tol) const {
+  // A ray the reference itself would not trace returns nothing (see remainingBound)
+  if (!seriesConverges_ && depth > referenceDepth_) return Color(0.0f);
+  ++st.boundRays;
+  Hit hit;
+  if (!scene_.intersect(ray, hit, &st.nodesVisited)) {
+    // A miss returns exactly what radiance() returns for it (the straight escape's alpha is not colour)
+    if (straight) return scene_.backgroundAlpha * ps.screenBackground;
+    return scene_.environment(ray.dir, up_);
+  }
+  *tHit = hit.t;
+  // A hit returns its local term plus what its own secondary rays return. Local shading without shadow rays is its
+  // upper bound: a shadow ray only scales a light's terms by a transmittance in [0, 1], and the clamps and blends
+  // after it are monotone. Everything else (vertex colours, textures, edges, headlight, inside ambient) is the
+  // exact term radiance() computes, by the same code.
+  const double pathBefore = ps.pathLength;
+  ps.pathLength = pathLength;
+  HitFrame f;
+  frameHit(ray, hit, depth, ps, f);
+  ps.pathLength = pathBefore;
+  TraceShadows none{scene_};  // not called: no shadow rays
+  Color bound = localTerm<false>(f, Color(0.0f), st, ps, none);
+  const Material& m = f.material();
+  const Color k = m.reflectance + m.transmittance;
+  if (tol < 0.0f) {  // kCutRay
+    // The cut ray's own tolerance: a fraction of the charge it would leave here, at most the absolute one
+    const float charge = maxComponent(weight * (bound + k * remainingBound(depth + 1)));
+    tol = std::min(s_.truncationTolerance, s_.truncationRelativeTolerance * charge);
+    if (!(tol > 0.0f)) tol = s_.truncationTolerance;  // relative tolerance 0 (or nothing to charge)
+  }
+  if (shadows_ && extraLevels_ > 0 && maxComponent(weight * bound) > tol) {
+    // A large charge (adaptive lookahead): the hit's shadow rays, traced without the threshold, give the local term
+    // the reference computes there, never above the unshadowed one. They are bound rays, not shadow rays.
+    RayStats sst;
+    ExactShadows exact{scene_};
+    bound = localTerm<true>(f, Color(0.0f), sst, ps, exact);
+    st.boundRays += sst.shadow;
+    st.nodesVisited += sst.nodesVisited;
+  }
+  if (levels <= 1) {
+    // The secondary rays return at most the remaining bound each; total internal reflection and Fresnel move
+    // weight between kr and kt per channel, never add any. The adaptive lookahead follows them instead while that
+    // charge is large (the next level's charge is never above it: see buildRemainingBounds); below the absolute
+    // tolerance only where a level removes at least half of the charge (truncationRelativeTolerance)
+    const float remaining = remainingBound(depth + 1);
+    const float levelTol = maxComponent(k) <= 0.5f ? tol : std::max(tol, s_.truncationTolerance);
+    if (extra <= 0 || !(maxComponent(weight * k) * remaining > levelTol)) return bound + k * remaining;
+    levels = 2;
+    --extra;
+  }
+  // One more level of bound rays: the hit's secondary rays as radiance() would spawn them, each bounded in turn
+  SecondaryRays sec;
+  secondaryRays<Reflect, Refract>(f, sec);
+  if (sec.haveReflected) {
+    double t = kInfinity;
+    bound += sec.kr * cutRayBound<Reflect, Refract>(sec.reflected, depth + 1, levels - 1, extra, weight * sec.kr, false,
+                                                    f.pathHere, st, ps, &t, tol);
+  }
+  if (sec.haveRefracted) {
+    double t = kInfinity;
+    Color c = cutRayBound<Reflect, Refract>(sec.refracted, depth + 1, levels - 1, extra, weight * sec.kt,
+                                            straight && sec.refractedStraight, f.pathHere, st, ps, &t, tol);
+    if (s_.beerLambert && !f.backFace && std::isfinite(t)) absorb(c, m, t);
+    bound += sec.kt * c;
+  }
+  return bound;
+}
+
+template <bool Reflect, bool Refract, bool Shadows>
+Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straight, RayStats& st, PathState& ps,
+                           double* tHit, Vec3* firstHit, const FirstHit* pre) const {
+  Hit hit;
+  if (pre ? !pre->found : !scene_.intersect(ray, hit, &st.nodesVisited)) {
+    if (straight) {
+      // Along the camera ray's line: what lies behind the pixel on screen. The background contributes in
+      // proportion to its alpha; the rest is left to what is drawn behind, through the pixel's alpha.
+      float a = scene_.backgroundAlpha;
+      ps.escaped += (weight.x + weight.y + weight.z) / 3.0f * (1.0f - a);
+      return a * ps.screenBackground;
+    }
+    // Reflected or bent: the environment in the ray's direction, an opaque colour contribution
+    return scene_.environment(ray.dir, up_);
+  }
+  HitFrame own;
+  if (pre) hit = pre->hit;
+  else frameHit(ray, hit, depth, ps, own);
+  const HitFrame& f = pre ? pre->frame : own;
+  if (tHit) *tHit = hit.t;
+  if (firstHit) *firstHit = f.sp.p;
+  const Material& m = f.material();
+
+  Color result;
+  if (pre) {
+    AnsweredShadows answered{scene_, *pre};
+    result = localTerm<Shadows>(f, weight, st, ps, answered);
+  } else {
+    TraceShadows traced{scene_};
+    result = localTerm<Shadows>(f, weight, st, ps, traced);
+  }
+  if constexpr (!Reflect && !Refract) {
+    if (cutAtDepthZero_) {
+      const Color k = s_.reflections ? m.reflectance + m.transmittance : m.transmittance;
+      ps.truncation += maxComponent(weight * k) * remainingBound(1);
+    }
+  }
+
+  if constexpr (Reflect || Refract) {
+    const bool backFace = f.backFace;
+    const double pathHere = f.pathHere;
+    SecondaryRays sec;
+    secondaryRays<Reflect, Refract>(f, sec);
+    auto spawn = [&](const Ray& r, const Color& k, uint64_t& counter, bool refractedRay) {
+      Color w = weight * k;
+      float wmax = maxComponent(w);
+      if (wmax <= 0.0f) return;
+      const bool rayStraight = straight && refractedRay && sec.refractedStraight;
+      const bool cutByDepth = depth >= s_.maxDepth;
+      if (cutByDepth || wmax < s_.contributionThreshold) {
+        ++(cutByDepth ? st.savedByDepth : st.savedByThreshold);
+        if (s_.truncationLookahead <= 0) {
+          ps.truncation += wmax * remainingBound(depth + 1);
+          return;
+        }
+        double t = kInfinity;
+        Color bound = cutRayBound<Reflect, Refract>(r, depth + 1, s_.truncationLookahead, extraLevels_, w, rayStraight,
+                                                    pathHere, st, ps, &t, kCutRay);
+        if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) absorb(bound, m, t);
+        ps.truncation += maxComponent(w * bound);
+        return;
+      }
+      ++counter;
+      double t = kInfinity;
+      const double pathBefore = ps.pathLength;
+      ps.pathLength = pathHere;
+      Color c = radiance<Reflect, Refract, Shadows>(r, depth + 1, w, rayStraight, st, ps, &t, nullptr, nullptr);
+      ps.pathLength = pathBefore;
+      if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) absorb(c, m, t);
+      result += k * c;
+    };
+
+    if (sec.haveReflected) spawn(sec.reflected, sec.kr, st.reflection, false);
+    if (sec.haveRefracted) spawn(sec.refracted, sec.kt, st.refraction, true);
+  }
+  return result;
+}
+
+}  // namespace whitted
