@@ -1,0 +1,49 @@
+// Bvh::refit (node boxes recomputed for moved primitives, same topology) and Bvh::sahCost (the tree's expected
+// trace cost, which tells when a refitted tree should be rebuilt).
+#include "accel/refit.h"
+#include "accel/box4.h"
+#include "accel/build_common.h"
+#include "accel/bvh.h"
+#include "util/parallel.h"
+
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
+namespace whitted {
+
+using namespace bvh_detail;
+
+void Bvh::refit(const std::vector<Bounds3>& boxes) {
+  refitFrom(boxes, true);
+}
+
+void Bvh::refitLeafOrder(const std::vector<Bounds3>& leafBoxes) {
+  refitFrom(leafBoxes, false);
+}
+
+void Bvh::refitFrom(const std::vector<Bounds3>& boxes, bool gather) {
+  if (boxes.size() != primIndices_.size()) throw std::invalid_argument("Bvh::refit: primitive count differs");
+  if (wide_.empty()) return;
+  WorkerPool pool(buildThreads(BvhBuildOptions(), boxes.size()));
+  const LeafOrderBoxes leafBox(boxes.data(), uint32_t(boxes.size()), gather ? primIndices_.data() : nullptr, anchor_,
+                               pool);
+  bounds_ = toBounds(Refitter<LeafOrderBoxes>{wide_, leafBox}.all(pool), anchor_);
+}
+
+double Bvh::sahCost() const {
+  const double rootArea = bounds_.halfArea();
+  if (wide_.empty() || !(rootArea > 0.0) || !std::isfinite(rootArea)) return 0.0;
+  // The root is always entered; below it each child by its area (node boxes are anchored: areas do not move)
+  double cost = 1.0;
+  for (const BvhWideNode& n : wide_)
+    for (int c = 0; c < 4; ++c) {
+      if (n.count[c] == BvhWideNode::kEmpty) continue;
+      const Bounds3 b{Vec3(n.b[0][c], n.b[1][c], n.b[2][c]), Vec3(n.b[3][c], n.b[4][c], n.b[5][c])};
+      cost += b.halfArea() / rootArea * (n.count[c] > 0 ? double(n.count[c]) : 1.0);
+    }
+  return cost;
+}
+
+}  // namespace whitted
