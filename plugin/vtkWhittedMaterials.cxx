@@ -43,9 +43,9 @@ void ReadWhittedKeys(vtkInformation* info, whitted::Material& m)
   }
 
   // Beer-Lambert: the colour kept after a distance, as the coefficient per unit the core uses
-  // (-ln(colour) / distance). A colour of 0 (or a distance of 0) keeps nothing: the coefficient
-  // is capped at the core's largest (1e30 per unit). A colour above 1, below 0 or NaN, or a
-  // negative distance, gives a coefficient that sanitizeMaterial clamps to 0 and warns about.
+  // (whitted::absorptionFromAttenuation: a colour of 0, or a distance of 0, keeps nothing; a
+  // colour above 1, below 0 or NaN, or a negative distance, gives a coefficient that
+  // sanitizeMaterial clamps to 0 and warns about).
   Color attenuation(1.0f);
   readColor(vtkWhittedPass::ATTENUATION_COLOR(), attenuation);
   const double distance = info->Has(vtkWhittedPass::ATTENUATION_DISTANCE())
@@ -53,11 +53,8 @@ void ReadWhittedKeys(vtkInformation* info, whitted::Material& m)
     : 1.0;
   for (int i = 0; i < 3; ++i)
   {
-    if (attenuation[i] != 1.0f)
-    {
-      const double a = -std::log(static_cast<double>(attenuation[i])) / distance;
-      m.absorption[i] = static_cast<float>(std::isnan(a) ? a : std::min(a, 1e30));
-    }
+    m.absorption[i] =
+      whitted::absorptionFromAttenuation(static_cast<double>(attenuation[i]), distance);
   }
 }
 }
@@ -139,9 +136,10 @@ whitted::Material ConvertProperty(vtkActor* actor, vtkProperty* p, vtkProperty* 
   }
   m.texture = texture;
 
-  // Whitted terms; the defaults keep VTK's look (from an Opacity that is in range: a NaN or
-  // out-of-range Opacity is one problem, not two)
-  const float opacity = std::isfinite(m.opacity) ? std::clamp(m.opacity, 0.0f, 1.0f) : 1.0f;
+  // Whitted terms; the defaults keep VTK's look (from the Opacity sanitizeMaterial will keep: a NaN
+  // or out-of-range Opacity is one problem, not two)
+  float opacity = m.opacity;
+  whitted::sanitizeOpacity(opacity);
   m.transmittance = Color(1.0f - opacity);
   m.ior = 1.0f;
   if (front->GetInterpolation() == VTK_PBR)
@@ -166,12 +164,7 @@ whitted::Material ConvertProperty(vtkActor* actor, vtkProperty* p, vtkProperty* 
   // Sanitise; the energy warning quotes the largest channel sum of kr + kt as sanitizeMaterial
   // sees it after clamping each to [0,1]
   float energy = 0.0f;
-  for (int i = 0; i < 3; ++i)
-  {
-    auto clamp01 = [](float v) { return std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f; };
-    energy = std::max(energy, clamp01(m.reflectance[i]) + clamp01(m.transmittance[i]));
-  }
-  if (const uint32_t fixed = whitted::sanitizeMaterial(m))
+  if (const uint32_t fixed = whitted::sanitizeMaterial(m, &energy))
   {
     warnings.WarnMaterial(actor, fixed, energy);
   }

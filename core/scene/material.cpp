@@ -13,7 +13,17 @@ uint32_t fixColor(Color& c, float lo, float hi, uint32_t bit) {
 
 }  // namespace
 
-uint32_t sanitizeMaterial(Material& m) {
+float absorptionFromAttenuation(double kept, double distance) {
+  if (kept == 1.0) return 0.0f;  // keeps everything: no absorption, even over a distance of 0
+  const double a = -std::log(kept) / distance;
+  return float(std::isnan(a) ? a : std::min(a, double(kMaxAbsorption)));
+}
+
+bool sanitizeOpacity(float& opacity) {
+  return sanitizeValue(opacity, 0.0f, 1.0f, 1.0f, 1u) != 0;
+}
+
+uint32_t sanitizeMaterial(Material& m, float* energySum) {
   uint32_t fixed = 0;
   fixed |= fixColor(m.ambientColor, 0.0f, 1e6f, 1u << 0);
   fixed |= fixColor(m.diffuseColor, 0.0f, 1e6f, 1u << 0);
@@ -22,14 +32,14 @@ uint32_t sanitizeMaterial(Material& m) {
   fixed |= sanitizeValue(m.diffuse, 0.0f, 1e6f, 0.0f, 1u << 1);
   fixed |= sanitizeValue(m.specular, 0.0f, 1e6f, 0.0f, 1u << 1);
   fixed |= sanitizeValue(m.specularPower, 0.0f, 1e6f, 1.0f, 1u << 2);
-  fixed |= sanitizeValue(m.opacity, 0.0f, 1.0f, 1.0f, 1u << 3);
+  if (sanitizeOpacity(m.opacity)) fixed |= 1u << 3;
   fixed |= fixColor(m.reflectance, 0.0f, 1.0f, 1u << 4);
   fixed |= fixColor(m.transmittance, 0.0f, 1.0f, 1u << 5);
   if (!std::isfinite(m.ior) || m.ior <= 0.0f) {
     m.ior = 1.0f;
     fixed |= 1u << 6;
   }
-  fixed |= fixColor(m.absorption, 0.0f, 1e30f, 1u << 7);
+  fixed |= fixColor(m.absorption, 0.0f, kMaxAbsorption, 1u << 7);
   fixed |= fixColor(m.edgeColor, 0.0f, 1.0f, 1u << 0);
   fixed |= sanitizeValue(m.edgeWidth, 0.0f, 1e6f, 0.0f, 1u << 1);
 
@@ -37,6 +47,7 @@ uint32_t sanitizeMaterial(Material& m) {
   // ulp at a time should float rounding leave the largest sum above 1 (one or two steps at most)
   const Color kr = m.reflectance, kt = m.transmittance;
   const float maxSum = maxComponent(kr + kt);
+  if (energySum) *energySum = maxSum;
   if (maxSum > 1.0f) {
     float scale = 1.0f / maxSum;
     while (maxComponent(kr * scale + kt * scale) > 1.0f) scale = std::nextafter(scale, 0.0f);

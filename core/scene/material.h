@@ -82,11 +82,27 @@ inline float bodyWeight(const Material& m, float opacity) {
 /// rounding, never above), so a surface never returns more light than reaches it.
 constexpr uint32_t kMaterialEnergyScaled = 1u << 8;
 
+/// Largest Beer-Lambert coefficient (per world unit) a material keeps: sanitizeMaterial clamps
+/// Material::absorption to [0, kMaxAbsorption]. Enough to keep nothing after any distance a scene can hold.
+constexpr float kMaxAbsorption = 1e30f;
+
+/// The Beer-Lambert coefficient per world unit (Material::absorption) that keeps the fraction kept of the light
+/// after distance: -ln(kept) / distance in double, capped at kMaxAbsorption (kept 0 keeps nothing); kept exactly 1
+/// gives 0 whatever the distance. kept above 1 or below 0 or NaN, or a negative distance, give a coefficient
+/// (negative or NaN) that sanitizeMaterial clamps to 0 and reports (bit 7).
+float absorptionFromAttenuation(double kept, double distance);
+
+/// The opacity rule of sanitizeMaterial: a non-finite opacity becomes 1 (opaque), one outside [0, 1] is clamped.
+/// Returns true if it changed opacity.
+bool sanitizeOpacity(float& opacity);
+
 /// Sanitises a material in place and returns a bit mask of what was fixed (0 = nothing), so adapters can warn
 /// once. Bits 0-7: a value was NaN, infinite or outside its documented range and was replaced or clamped
 /// (0 a colour, 1 ambient/diffuse/specular, 2 specularPower, 3 opacity, 4 reflectance, 5 transmittance, 6 ior,
 /// 7 absorption; an edge colour outside [0,1] sets bit 0, a negative or non-finite edge width (set to 0) bit 1); kr and kt are each clamped to [0,1] first. Then, if kr + kt > 1 in any channel, both are
 /// scaled as kMaterialEnergyScaled describes. A material with kr + kt <= 1 everywhere keeps kr and kt bit-exact.
-uint32_t sanitizeMaterial(Material& m);
+/// energySum, if given, receives the largest channel sum of kr + kt after that clamping and before the scaling
+/// (the sum a warning about kMaterialEnergyScaled quotes).
+uint32_t sanitizeMaterial(Material& m, float* energySum = nullptr);
 
 }  // namespace whitted

@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <limits>
 
 using namespace whitted;
 
@@ -68,4 +70,41 @@ TEST(Material, KrPlusKtAtMostOneIsUntouched) {
     EXPECT_EQ(std::memcmp(&m.reflectance, &p[0], sizeof(Color)), 0);
     EXPECT_EQ(std::memcmp(&m.transmittance, &p[1], sizeof(Color)), 0);
   }
+}
+
+// The sum a warning quotes: after clamping kr and kt to [0,1] (2 -> 1, NaN -> 0), before the scaling.
+TEST(Material, EnergySumIsTheClampedSumBeforeScaling) {
+  Material m;
+  m.reflectance = Color(2.0f, 0.3f, std::nanf(""));
+  m.transmittance = Color(0.5f, 0.3f, 0.9f);
+  float energy = -1.0f;
+  EXPECT_EQ(sanitizeMaterial(m, &energy), kMaterialEnergyScaled | (1u << 4));
+  EXPECT_EQ(energy, 1.5f);
+}
+
+// Beer-Lambert from a colour kept after a distance: -ln(kept) / distance, kept 0 capped at kMaxAbsorption, kept 1
+// no absorption at any distance; what is out of range comes out as a value sanitizeMaterial clamps and reports.
+TEST(Material, AbsorptionFromAttenuation) {
+  EXPECT_EQ(absorptionFromAttenuation(0.5, 2.0), float(-std::log(0.5) / 2.0));
+  EXPECT_EQ(absorptionFromAttenuation(0.0, 1.0), kMaxAbsorption);
+  EXPECT_EQ(absorptionFromAttenuation(0.5, 0.0), kMaxAbsorption);
+  EXPECT_EQ(absorptionFromAttenuation(1.0, 0.0), 0.0f);
+  Material m;
+  m.absorption = Color(absorptionFromAttenuation(2.0, 1.0), absorptionFromAttenuation(0.5, -1.0),
+                       absorptionFromAttenuation(std::nan(""), 1.0));
+  EXPECT_EQ(sanitizeMaterial(m), 1u << 7);
+  EXPECT_EQ(m.absorption, Color(0.0f));
+}
+
+// The opacity rule sanitizeMaterial applies, for adapters that derive defaults from the opacity first.
+TEST(Material, SanitizeOpacity) {
+  float o = 0.25f;
+  EXPECT_FALSE(sanitizeOpacity(o));
+  EXPECT_EQ(o, 0.25f);
+  o = 1.5f;
+  EXPECT_TRUE(sanitizeOpacity(o));
+  EXPECT_EQ(o, 1.0f);
+  o = -std::numeric_limits<float>::infinity();
+  EXPECT_TRUE(sanitizeOpacity(o));
+  EXPECT_EQ(o, 1.0f);
 }

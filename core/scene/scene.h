@@ -2,9 +2,10 @@
 // materials, lights, textures and background. commit() rebuilds only what changed: the BVH of each edited object,
 // and the small top-level BVH over instances when any instance or object bound changed. It also detects which
 // features the scene can use so the integrator can run a kernel that skips the rest.
-// Where each part lives: registry and commit in scene.cpp, the two-level traversal (closest hit with its
-// tie-break, shadow transmittance, surface data at a hit) in traversal.cpp, the environment lookup in
-// environment.cpp, each shape's code in shape_*.cpp, light and material sanitising in light.cpp / material.cpp.
+// Where each part lives: registry and commit in scene.cpp, the background SAH upgrade in upgrade.cpp, the
+// two-level traversal (closest hit with its tie-break, shadow transmittance, surface data at a hit) in
+// traversal.cpp, the environment lookup in environment.cpp, light and material sanitising in light.cpp /
+// material.cpp; each shape's code is in geometry/shape_*.cpp.
 #pragma once
 
 #include "accel/bvh.h"
@@ -22,16 +23,15 @@
 
 namespace whitted {
 
-/// What the committed scene contains; the integrator leaves out every mechanism whose flag is false.
+/// What the committed scene contains; the integrator leaves out every mechanism whose flag is false (transforms
+/// is for callers: the benchmark's POV-Ray export).
 struct Features {
   bool reflective = false;    ///< Some visible material has kr > 0.
   bool transmissive = false;  ///< Some visible material has kt > 0.
   bool shadowLights = false;  ///< Some light casts shadows.
-  bool spheres = false;
-  bool tubes = false;
-  bool transforms = false;  ///< Some visible instance has a non-identity transform.
-  bool textures = false;    ///< Some visible material uses a texture with texture coordinates present.
-  bool edges = false;       ///< Some visible material draws edges (Material::edgeWidth > 0).
+  bool transforms = false;    ///< Some visible instance has a non-identity transform.
+  bool textures = false;      ///< Some visible material uses a texture with texture coordinates present.
+  bool edges = false;         ///< Some visible material draws edges (Material::edgeWidth > 0).
 };
 
 /// Counts of what commit() did, for statistics and for tests of caching.
@@ -223,10 +223,6 @@ class Scene {
   SceneStats stats() const;
   /// World bounds of visible instances (valid after commit).
   Bounds3 bounds() const { return bounds_; }
-  /// Upper bound on the local (non-recursive) radiance any visible surface or the background can return.
-  float localRadianceBound() const { return localBound_; }
-  /// Largest kr + kt component over visible materials (for recursion error bounds).
-  float maxSecondaryWeight() const { return maxSecondary_; }
 
   /// Closest hit along ray in (tMin, tMax); among hits at the same distance (within 1e-10 relative) the lowest
   /// (instance, primitive) wins. nodes, if given, counts visited BVH nodes.
@@ -286,7 +282,7 @@ class Scene {
   template <typename Fn>
   void forEachVisibleInstance(Fn&& fn) const;
 
-  struct Upgrade;  ///< A background SAH build (scene.cpp).
+  struct Upgrade;  ///< A background SAH build (upgrade.cpp).
   /// Its handle: moving it first waits for the builds on both sides (declared first among the members, so a
   /// moved scene's objects move only after that).
   struct UpgradeSlot {
@@ -310,7 +306,7 @@ class Scene {
   void buildObjects(CommitStats& st);    ///< Refit or rebuild the objects that changed.
   void buildTopLevel(CommitStats& st);   ///< Tree over the visible instances' world boxes.
   void sanitizeInputs(CommitStats& st);  ///< Clamp what shading reads, so no input can produce a NaN pixel.
-  void updateFeaturesAndBounds();        ///< Features used and the radiance bounds of the traced instances.
+  void updateFeatures();                 ///< What the traced instances, their materials and the lights use.
 
   UpgradeSlot upgrade_;  // first: see UpgradeSlot
   std::vector<Object> objects_;
@@ -330,8 +326,6 @@ class Scene {
   bool upgradeRaiseDenied_ = false;
   Features features_;
   Bounds3 bounds_;
-  float localBound_ = 1.0f;
-  float maxSecondary_ = 0.0f;
 };
 
 }  // namespace whitted

@@ -1,6 +1,7 @@
 // Whitted integrator: VTK's local shading + shadow rays + kr * reflected + kt * refracted, recursion cut by depth
 // and by contribution. A kernel is chosen per frame from the scene's features (reflection / refraction / shadow
-// machinery compiled out when the scene cannot use it).
+// machinery compiled out when the scene cannot use it). Tracing and shading are in integrator.cpp, the truncation
+// bound (buildRemainingBounds, cutRayBound) in truncation_bound.cpp.
 #pragma once
 
 #include "scene/scene.h"
