@@ -90,14 +90,20 @@ std::optional<PrimHit> intersectTube(const Ray& ray, const Vec3& pa, const Vec3&
   }
 
   // Spherical caps, each valid only on its own side of the body (a point tube: its two identical caps are
-  // the whole sphere; the second finds nothing closer)
+  // the whole sphere; the second finds nothing closer). Each cap's quadratic is solved from the ray's closest
+  // approach to that cap's centre (as for a sphere): from the midpoint's, |f|^2 of a long thin tube is so much
+  // larger than r^2 that its rounding alone made phantom roots (a cap of radius 1e-6 at 500 units from the
+  // midpoint: |f|^2 ~ 2.5e5 carries ~3e-11 of rounding against r^2 = 1e-12)
   for (int e = 0; e < 2; ++e) {
     const Vec3& c = e ? pb : pa;
-    Vec3 f = o - c;
+    const double capShift = -glm::dot(ray.origin - c, ray.dir) / a0 - tShift;  // from o to c's closest approach
+    const Vec3 oc = o + capShift * ray.dir;
+    Vec3 f = oc - c;
     double hb = glm::dot(f, ray.dir);
     if (solveQuadraticHalfB(a0, hb, glm::dot(f, f) - radius * radius, t0, t1, disc)) {
-      for (double t : {t0, t1}) {
-        double y = glm::dot(o + t * ray.dir - pa, axis) / len2;  // NaN for a point tube
+      for (double tc : {t0, t1}) {
+        const double t = tc + capShift;  // relative to o, as the body's roots
+        double y = glm::dot(oc + tc * ray.dir - pa, axis) / len2;  // NaN for a point tube
         if (point || (e == 0 && y <= 0.0) || (e == 1 && y >= 1.0)) consider(t, e ? 1.0 : 0.0, a0, disc, true);
       }
     }
