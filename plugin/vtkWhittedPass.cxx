@@ -486,7 +486,7 @@ const whitted::FrameBuffer& vtkWhittedPassInternals::ErrorDisplayed(vtkWhittedPa
   const float scale = static_cast<float>(pass->GetErrorImageScale());
   for (size_t i = 0; i < f.color.size(); ++i)
   {
-    const float e = std::min(1.0f, f.truncation[i] + f.sampling[i]);
+    const float e = whitted::totalEstimate(f.truncation[i], f.sampling[i]);
     const float g = std::min(1.0f, scale * e);
     this->ErrorDisplay.color[i] = f.traced[i] ? whitted::Color4(g, g, g, 1.0f) : f.color[i];
   }
@@ -783,7 +783,7 @@ void vtkWhittedPass::GetLastErrorImage(vtkImageData* image)
   {
     arrays[0]->SetValue(i, fb.truncation[i]);
     arrays[1]->SetValue(i, fb.sampling[i]);
-    arrays[2]->SetValue(i, std::min(1.0f, fb.truncation[i] + fb.sampling[i]));
+    arrays[2]->SetValue(i, whitted::totalEstimate(fb.truncation[i], fb.sampling[i]));
     arrays[3]->SetValue(i, static_cast<float>(fb.samples[i]));
   }
   for (int k = 0; k < 4; ++k)

@@ -3,6 +3,7 @@
 // positions are a deterministic function of (pixel, sample index) and statistics are summed per pixel/tile.
 #pragma once
 
+#include "image/error_estimate.h"  // kSamplingConfidence, ErrorSummary, totalEstimate
 #include "shading/camera.h"
 #include "shading/integrator.h"
 #include "util/parallel.h"  // hardwareThreads()
@@ -28,22 +29,8 @@ struct FrameBuffer {
   void resize(int w, int h);
 };
 
-/// What the sampling estimate states. A pixel with n >= 2 samples: twice the standard error of its mean
-/// (sample variance of the n samples / n, largest channel), which covers the pixel's true error with about 95%
-/// probability if the mean were normally distributed (stratified samples make the true spread smaller), but at
-/// least the neighbour term below / sqrt(n) (samples that all fell on one side of an edge show no spread). A
-/// pixel with one sample: half the second difference of its colour against its neighbours (the rule adaptive
-/// sampling refines by), a heuristic with no probability attached; the benchmark reports the coverage measured.
-constexpr double kSamplingConfidence = 0.95;
-constexpr float kSamplingStandardErrors = 2.0f;
-
 /// Loosening levels progressive refinement may apply per pixel (see RenderSettings::targetError).
 constexpr int kMaxLoosening = 3;
-
-/// Summary over the traced pixels of one per-pixel error image.
-struct ErrorSummary {
-  double rms = 0.0, p95 = 0.0, max = 0.0;  ///< Root mean square, 95th percentile (to 1/4096) and largest value.
-};
 
 /// Running sums of one pixel's camera samples, kept for progressive refinement.
 struct PixelSums {

@@ -1,0 +1,111 @@
+// The frame's error estimate: the neighbour part of the sampling estimate (a pass over the finished colours) and
+// the summaries of FrameStats. What the estimate states: image/error_estimate.h.
+#include "image/error_estimate.h"
+
+#include "image/frame_job.h"
+
+#include <emmintrin.h>  // SSE2: part of every x86-64 CPU (Debian 12's baseline)
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace whitted {
+
+namespace {
+
+// Root mean square, 95th percentile (upper edge of a 1/4096 bin) and maximum of per-pixel values in [0, 1]
+class ErrorHistogram {
+ public:
+  void add(float e) {
+    sum2_ += double(e) * e;
+    max_ = std::max(max_, e);
+    ++hist_[std::min(kBins - 1, int(e * kBins))];
+    ++count_;
+  }
+  ErrorSummary summary() const {
+    ErrorSummary out;
+    if (count_ == 0) return out;
+    out.rms = std::sqrt(sum2_ / double(count_));
+    out.max = max_;
+    std::size_t cum = 0;
+    for (int b = 0; b < kBins; ++b) {
+      cum += hist_[b];
+      if (double(cum) >= 0.95 * double(count_)) {
+        out.p95 = std::min(double(max_), double(b + 1) / kBins);
+        break;
+      }
+    }
+    return out;
+  }
+
+ private:
+  static constexpr int kBins = 4096;
+  std::vector<uint32_t> hist_ = std::vector<uint32_t>(kBins, 0);
+  double sum2_ = 0.0;
+  float max_ = 0.0f;
+  std::size_t count_ = 0;
+};
+
+}  // namespace
+
+void FrameJob::estimateErrors(FrameStats& fs) {
+  if (!tiles_.aborted()) runPass([&](int tile) { estimateFromNeighbours(tile); }, false, false);
+  summarizeErrors(fs);
+}
+
+void FrameJob::estimateFromNeighbours(int tileSlot) {
+  int tile = myTiles_[tileSlot];
+  int x0 = (tile % tilesX_) * ts_, y0 = (tile / tilesX_) * ts_;
+  int x1 = std::min(w_, x0 + ts_), y1 = std::min(h_, y0 + ts_);
+  const float* color = &fb_.color.data()->x;  // RGBA floats (glm's operator[] would branch per channel)
+  const uint8_t* traced = fb_.traced.data();
+  float* sampling = fb_.sampling.data();
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) {
+      const std::size_t i = index(x, y);
+      if (!traced[i]) continue;
+      const int n = fb_.samples[i];
+      // Several samples: their spread, but at least the neighbours' disagreement scaled as a mean of n samples
+      // (samples that all fell on one side of an edge show no spread)
+      const float spread = n == 1         ? 0.0f
+                           : progressive_ ? samplingEstimate(acc_[i].sum, acc_[i].sum2, n)
+                                          : sampling[i];
+      const float scale = n == 1 ? 1.0f : 1.0f / std::sqrt(float(n));
+      const bool interior = x > 0 && y > 0 && x + 1 < w_ && y + 1 < h_ && traced[i - 1] && traced[i + 1] &&
+                            traced[i - w_] && traced[i + w_];
+      if (!interior) {
+        sampling[i] = std::min(1.0f, std::max(spread, scale * unpredicted(x, y).second));
+        continue;
+      }
+      // Performance note: the common case without unpredicted()'s border logic, the four channels at once in
+      // SSE2 with the scalar rule's very operations (min(1, max(0, x)) as MINPS(MAXPS(x, 0), 1), then
+      // |c - 0.5 (a + b)| on both axes and the largest lane), so the estimate keeps its bits
+      const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f), half = _mm_set1_ps(0.5f);
+      const __m128 absMask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+      auto v = [&](std::size_t j) { return _mm_min_ps(_mm_max_ps(_mm_loadu_ps(color + 4 * j), zero), one); };
+      const __m128 c = v(i);
+      const __m128 dx = _mm_and_ps(absMask, _mm_sub_ps(c, _mm_mul_ps(half, _mm_add_ps(v(i - 1), v(i + 1)))));
+      const __m128 dy = _mm_and_ps(absMask, _mm_sub_ps(c, _mm_mul_ps(half, _mm_add_ps(v(i - w_), v(i + w_)))));
+      __m128 m = _mm_max_ps(dx, dy);
+      m = _mm_max_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(1, 0, 3, 2)));
+      m = _mm_max_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(2, 3, 0, 1)));
+      const float d = _mm_cvtss_f32(m);
+      sampling[i] = std::min(1.0f, std::max(spread, scale * d));
+    }
+}
+
+void FrameJob::summarizeErrors(FrameStats& fs) const {
+  ErrorHistogram truncation, sampling, total;
+  for (std::size_t i = 0; i < fb_.traced.size(); ++i) {
+    if (!fb_.traced[i]) continue;
+    truncation.add(fb_.truncation[i]);
+    sampling.add(fb_.sampling[i]);
+    total.add(totalEstimate(fb_.truncation[i], fb_.sampling[i]));
+  }
+  fs.truncation = truncation.summary();
+  fs.sampling = sampling.summary();
+  fs.total = total.summary();
+}
+
+}  // namespace whitted

@@ -1,0 +1,310 @@
+// Progressive refinement (RenderSettings::targetError, timeBudget, refinement): rounds that refine the pixels
+// whose refinement removes the most estimated squared error per ray, each by more samples or a looser depth and
+// threshold, until the target is met, the budget is spent or nothing is left to refine. Tuning numbers and what
+// refinement measures to steer by: image/refinement.h.
+#include "image/refinement.h"
+
+#include "image/error_estimate.h"  // kSamplingStandardErrors, totalEstimate
+#include "image/frame_job.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <optional>
+
+namespace whitted {
+
+namespace {
+
+// The integrator settings of a loosening level: maxDepth times kLoosenDepthFactor (at least + kLoosenDepthStep, at
+// most kLoosenMaxDepth) and the threshold divided by kLoosenThresholdDivisor per level
+IntegratorSettings levelSettings(const IntegratorSettings& frame, int level) {
+  IntegratorSettings is = frame;
+  for (int k = 0; k < level; ++k) {
+    is.maxDepth =
+        std::min(kLoosenMaxDepth, std::max(kLoosenDepthFactor * is.maxDepth, is.maxDepth + kLoosenDepthStep));
+    is.contributionThreshold /= kLoosenThresholdDivisor;
+  }
+  return is;
+}
+
+// The deepest level that still loosens anything (levels past kLoosenMaxDepth and a negligible threshold change
+// nothing)
+int loosestLevel(const IntegratorSettings& frame) {
+  int level = 0;
+  while (level < kMaxLoosening) {
+    const IntegratorSettings a = levelSettings(frame, level), b = levelSettings(frame, level + 1);
+    if (a.maxDepth == b.maxDepth && a.contributionThreshold < kNegligibleThreshold) break;
+    ++level;
+  }
+  return level;
+}
+
+}  // namespace
+
+// Progressive rounds: pick the pixels whose refinement removes the most estimated squared error per ray (see
+// RenderSettings::targetError), each with its better way (more samples or one loosening level deeper), up to the
+// round's rays; re-estimate, until the target is met, the budget is spent, nothing is left to refine or the
+// call's rounds are used (progressive display). A round cut short by an abort or the call's time slice keeps
+// its pixels still to refine in the RefinementState, and the next call finishes it first: the pixels refined
+// and the frame reached are the same as without the cut. before: tracing seconds earlier calls spent on this
+// frame.
+void FrameJob::refine(std::chrono::steady_clock::time_point start, double before, FrameStats& fs,
+                      RefinementState* keep) {
+  auto elapsed = [&] {
+    return before + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  const int maxSamples = std::clamp(s_.maxProgressiveSamples, 1, 65535);
+  if (s_.timeBudget > 0.0)
+    tiles_.setDeadline(start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                   std::chrono::duration<double>(s_.timeBudget - before)));
+  if (s_.refinementSlice > 0.0)
+    tiles_.setSliceEnd(start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                   std::chrono::duration<double>(s_.refinementSlice)));
+  if (fs.progress.empty()) fs.progress.emplace_back(elapsed(), fs.total.rms);
+  // A round an earlier call cut short: its pixels still to refine, finished before anything else
+  bool pending = keep && keep->pending.size() == std::size_t(w_) * h_;
+  if (pending)
+    marks_ = std::move(keep->pending);
+  else
+    marks_.assign(std::size_t(w_) * h_, 0);
+  if (keep) keep->pending.clear();
+  coarse_ = makeCoarse();
+  const int maxLevel = loosestLevel(s_.integrator);
+  int rounds = 0;
+  bool worked = false;  // this call has refined something (a call always does, whatever its slice)
+  fs.refinementFinished = false;
+  for (;;) {
+    // (a pending round is finished first: the image it left half refined may meet the target early)
+    fs.targetMet = s_.targetError > 0.0 && fs.total.rms <= s_.targetError;
+    if ((fs.targetMet && !pending) || tiles_.pastDeadline()) {
+      fs.refinementFinished = true;
+      break;
+    }
+    if (tiles_.aborted() || (s_.maxRefinementRounds > 0 && rounds >= s_.maxRefinementRounds) ||
+        (worked && tiles_.sliceOver())) {
+      if (pending && keep) keep->pending = std::move(marks_);
+      break;
+    }
+    if (pending) {
+      pending = false;
+      worked = true;
+      refineRound(maxSamples);
+      if (cutShort(fs, keep)) break;
+      finishRound(fs, rounds, elapsed());
+      continue;
+    }
+    // What each pixel can still get: more samples (if its samples disagree), a looser level (if anything was
+    // cut)
+    auto canSample = [&](std::size_t i) { return acc_[i].n < maxSamples && fb_.sampling[i] > 0.0f; };
+    auto canLoosen = [&](std::size_t i) { return acc_[i].level < maxLevel && fb_.truncation[i] > 0.0f; };
+    auto estimate = [&](std::size_t i) { return totalEstimate(fb_.truncation[i], fb_.sampling[i]); };
+    // What refining a pixel gains per ray it costs, for each way to refine it: the drop of its expected squared
+    // error (the share of the image's squared error it can remove) over the rays it will take (its own rays per
+    // sample so far, for a looser level times the growth measured on the pixels loosened before). Picks the
+    // better way per pixel. The truncation part is systematic and the sampling part random (the estimate is
+    // kSamplingStandardErrors standard errors), so their squares add: samples remove only the sampling part's
+    // variance, a looser level only the truncation part.
+    std::vector<float> loosenGrowth(std::size_t(maxLevel) + 2), share(std::size_t(maxLevel) + 2), gridGrowth(2);
+    for (int l = -1; l <= maxLevel; ++l) {
+      loosenGrowth[std::size_t(l + 1)] = measures_.loosenGrowth(l);
+      share[std::size_t(l + 1)] = measures_.truncationShare(l);
+    }
+    for (int c = 0; c < 2; ++c) gridGrowth[std::size_t(c)] = measures_.gridGrowth(c == 1);
+    struct Choice {
+      float gainPerRay = 0.0f, rays = 0.0f;
+      uint8_t action = kKeep;
+    };
+    auto choose = [&](std::size_t i) {
+      const PixelSums& ps = acc_[i];
+      // The truncation bound scaled by the share of it that loosening changed so far at this level
+      const float t = fb_.truncation[i] * share[std::size_t(ps.level + 1)], smp = fb_.sampling[i];
+      const float variance = (smp / kSamplingStandardErrors) * (smp / kSamplingStandardErrors);
+      const float raysPerSample = std::max(1.0f, float(ps.rays)) / float(ps.n);
+      Choice c;
+      if (canSample(i)) {
+        float gain;
+        if (ps.n == 1 && ps.strata == 1 && maxSamples >= kFirstStrata) {
+          // Centre sample -> jittered 2x2 grid (coarse when its sampling estimate is well above its bound)
+          const bool coarse = ps.level == 0 && coarse_ && t * kCoarseMargin < smp;
+          c.action = coarse ? kSampleCoarse : kSample;
+          gain = (1.0f - 1.0f / float(kFirstStrata)) * variance;  // 4 samples: a quarter of the variance
+          c.rays = float(kFirstStrata) * raysPerSample * gridGrowth[coarse ? 1 : 0];
+        } else {
+          const int add = std::min(ps.n, maxSamples - ps.n);
+          gain = variance * float(add) / float(ps.n + add);  // n / (n + add) of the variance left
+          c.action = kSample;
+          c.rays = float(add) * raysPerSample;
+        }
+        c.gainPerRay = gain / c.rays;
+      }
+      if (canLoosen(i)) {
+        // A looser level is taken to leave kLoosenLeaves of the truncation part
+        const float rays = float(ps.n) * raysPerSample * loosenGrowth[std::size_t(ps.level + 1)];
+        const float gain = t * t * (1.0f - kLoosenLeaves * kLoosenLeaves) / rays;
+        if (gain > c.gainPerRay) c = Choice{gain, rays, kLoosen};
+      }
+      return c;
+    };
+    // The round's size in rays: half the rays of the image so far (rounds grow geometrically, so their
+    // re-estimates cost little), with a budget at most what the time left can trace (at the rate so far), all
+    // of it if a round that size would leave less than half a round
+    double imageRays = 0.0;
+    for (const PixelSums& ps : acc_) imageRays += ps.rays;
+    double roundRays = kRoundShare * imageRays;
+    if (tiles_.deadline()) {
+      RayStats traced;
+      for (const RayStats& r : tileStats_) traced += r;
+      const double spent = elapsed() - before;
+      const double left = std::chrono::duration<double>(*tiles_.deadline() - std::chrono::steady_clock::now()).count();
+      if (spent > 0.0 && left > 0.0) {
+        const double affordable = double(traced.traversals()) / spent * left;
+        if (kBudgetRoundsLeft * roundRays > affordable) roundRays = affordable;
+      }
+    }
+    // The pixels with the most gain per ray whose rays add up to the round's size: costs summed per priority
+    // bucket (a quarter octave each), taken from the top bucket down
+    const float least = float(kLeastEstimateShare * s_.targetError);
+    std::vector<Choice> choices(acc_.size());
+    std::vector<double> bucketRays(kBuckets, 0.0);
+    auto bucketOf = [](float g) {
+      return std::clamp(int(std::floor(kBucketsPerOctave * std::log2(g))) + kBuckets / 2, 0, kBuckets - 1);
+    };
+    for (std::size_t i = 0; i < acc_.size(); ++i) {
+      if (!fb_.traced[i] || estimate(i) < least || estimate(i) <= 0.0f || !(canSample(i) || canLoosen(i))) continue;
+      choices[i] = choose(i);
+      if (choices[i].action != kKeep && choices[i].gainPerRay > 0.0f)
+        bucketRays[std::size_t(bucketOf(choices[i].gainPerRay))] += choices[i].rays;
+      else
+        choices[i].action = kKeep;
+    }
+    int cutBucket = kBuckets;
+    for (double sum = 0.0; cutBucket > 0 && sum < roundRays;) sum += bucketRays[std::size_t(--cutBucket)];
+    std::size_t marked = 0;
+    for (std::size_t i = 0; i < acc_.size(); ++i) {
+      const Choice& c = choices[i];
+      marks_[i] = c.action != kKeep && bucketOf(c.gainPerRay) >= cutBucket ? c.action : uint8_t(kKeep);
+      marked += marks_[i] != kKeep;
+    }
+    if (marked == 0) {
+      fs.refinementFinished = true;
+      break;
+    }
+    worked = true;
+    refineRound(maxSamples);
+    if (cutShort(fs, keep)) break;
+    finishRound(fs, rounds, elapsed());
+  }
+  tiles_.setDeadline(std::nullopt);
+  tiles_.setSliceEnd(std::nullopt);
+}
+
+// Refines the marked pixels over the tiles that have any (a tile's pixels are unmarked as they are refined)
+void FrameJob::refineRound(int maxSamples) {
+  int deepest = 0;  // the loosest level a marked pixel is traced at
+  for (std::size_t i = 0; i < acc_.size(); ++i)
+    if (marks_[i] == kLoosen)
+      deepest = std::max(deepest, acc_[i].level + 1);
+    else if (marks_[i] == kSample)
+      deepest = std::max(deepest, acc_[i].level);
+  prepareLevels(deepest);
+  std::vector<int> slots;
+  for (int slot = 0; slot < int(myTiles_.size()); ++slot) {
+    bool any = false;
+    forTilePixels(slot, [&](int, int, std::size_t idx, const Color&) { any = any || marks_[idx] != kKeep; });
+    if (any) slots.push_back(slot);
+  }
+  tiles_.run(
+      slots.size(), [&](int i) { refinePixels(slots[std::size_t(i)], maxSamples); }, false, true);
+}
+
+// Whether the round just run was cut short by an abort or the time slice (not the budget, which ends the
+// frame): then its pixels still marked are kept for the next call (and, unless aborted, the estimate is brought up
+// to the image shown)
+bool FrameJob::cutShort(FrameStats& fs, RefinementState* keep) {
+  if (tiles_.pastDeadline()) return false;
+  if (std::none_of(marks_.begin(), marks_.end(), [](uint8_t m) { return m != kKeep; })) return false;
+  if (keep) keep->pending = std::move(marks_);
+  if (!tiles_.aborted()) estimateErrors(fs);
+  return true;
+}
+
+// After a round: re-estimate, count it and record the progress
+void FrameJob::finishRound(FrameStats& fs, int& rounds, double seconds) {
+  ++fs.refinementRounds;
+  ++rounds;
+  estimateErrors(fs);
+  fs.progress.emplace_back(seconds, fs.total.rms);
+}
+
+// The coarse level -1 of extra samples: the contribution threshold x kCoarseFactor (at most kCoarseThreshold,
+// never below the frame's), depth as the frame's. Null when it would trace as the frame does (threshold 0 or
+// already at the cap).
+std::unique_ptr<Integrator> FrameJob::makeCoarse() const {
+  IntegratorSettings is = s_.integrator;
+  const float t =
+      std::max(is.contributionThreshold, std::min(kCoarseThreshold, is.contributionThreshold * kCoarseFactor));
+  if (!(t > is.contributionThreshold)) return nullptr;
+  is.contributionThreshold = t;
+  return std::make_unique<Integrator>(scene_, is, camera_.up());
+}
+
+// Builds the integrators of levels 1..level not built yet (on the calling thread)
+void FrameJob::prepareLevels(int level) {
+  while (int(levels_.size()) < level)
+    levels_.push_back(
+        std::make_unique<Integrator>(scene_, levelSettings(s_.integrator, int(levels_.size()) + 1), camera_.up()));
+}
+
+void FrameJob::refinePixels(int tileSlot, int maxSamples) {
+  RayStats& st = tileStats_[tileSlot];
+  uint64_t samples = 0, retraced = 0;
+  forTilePixels(tileSlot, [&](int px, int py, std::size_t idx, const Color& rowBackground) {
+    if (marks_[idx] == kKeep) return;
+    PixelSums& ps = acc_[idx];
+    bool loosened = false;
+    int levelBefore = 0;
+    uint32_t raysBefore = 0;
+    const Color4 colorBefore = fb_.color[idx];
+    const float boundBefore = fb_.truncation[idx];
+    if (marks_[idx] == kLoosen) {
+      // The same samples again, one level looser
+      PixelSums fresh;
+      fresh.strata = ps.strata;
+      fresh.level = ps.level + 1;
+      addSamples(px, py, 0, ps.n, integratorAt(fresh.level), fresh, st, rowBackground);
+      loosened = true;
+      levelBefore = ps.level;
+      raysBefore = ps.rays;
+      retraced += std::size_t(ps.n);
+      ps = fresh;
+    } else if (ps.n == 1 && ps.strata == 1 && maxSamples >= kFirstStrata) {
+      // Only the centre sample: replaced by a jittered 2x2 grid (as adaptive sampling's second pass does),
+      // which later rounds continue with the sequence; at the coarse level if so marked (its own truncation
+      // bound is summed as for any sample)
+      PixelSums fresh;
+      fresh.strata = kFirstStrata;
+      fresh.level = marks_[idx] == kSampleCoarse ? -1 : ps.level;
+      addSamples(px, py, 0, kFirstStrata, integratorAt(fresh.level), fresh, st, rowBackground);
+      measures_.addGrid(fresh.level < 0, uint64_t(ps.rays) * kFirstStrata, fresh.rays);
+      samples += kFirstStrata - 1;
+      retraced += 1;
+      ps = fresh;
+    } else {
+      const int add = std::min(ps.n, maxSamples - ps.n);
+      addSamples(px, py, ps.n, ps.n + add, integratorAt(ps.level), ps, st, rowBackground);
+      samples += add;
+    }
+    marks_[idx] = kKeep;
+    writePixel(idx, ps, st);
+    if (loosened) {
+      const Color4 d = glm::abs(glm::clamp(fb_.color[idx], Color4(0.0f), Color4(1.0f)) -
+                                glm::clamp(colorBefore, Color4(0.0f), Color4(1.0f)));
+      measures_.addLoosen(levelBefore, raysBefore, ps.rays, boundBefore, std::max(std::max(d.x, d.y), d.z));
+    }
+  });
+  samples_ += samples;
+  retraced_ += retraced;
+}
+
+}  // namespace whitted
