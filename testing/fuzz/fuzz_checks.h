@@ -23,7 +23,7 @@
 // - every depth finite and in [0, 1];
 // - with one sample per pixel (the pixel centre), against an independent Scene::intersect of the pixel's camera
 //   ray: depth exactly 1 where that ray hits nothing; with a valid camera, where it hits, depth within 1e-4 of the
-//   GL depth of the hit point (0.5 z/w + 0.5).
+//   GL depth (0.5 z/w + 0.5) of that hit's surface point.
 //
 // Negative controls: with WHITTED_FUZZ_CORRUPT set, corruptFrame() breaks one thing after the render and before
 // the checks (a net's count + 1, or one pixel's colour or depth) and the target aborts with the check's report;
@@ -155,7 +155,10 @@ inline void checkFrame(const whitted::Scene& scene, const whitted::Camera& camer
           fail(buf);
         }
       } else if (validCamera) {
-        const double z = camera.glDepth(ray.origin + hit.t * ray.dir);
+        // The depth of the hit's surface point, as the tracer writes it: the surface point is the ray point
+        // re-projected onto the surface (within the hit's rounding), and next to the near plane a depth changes
+        // by 1e-4 for 1e-7 of distance (seen: a tube 1.2e-7 off the ray point gave 1.5e-4)
+        const double z = camera.glDepth(scene.surface(ray, hit).p);
         const double expected = std::clamp(std::isfinite(z) ? z : 1.0, 0.0, 1.0);
         if (!(std::abs(d - expected) <= 1e-4)) {
           std::snprintf(buf, sizeof buf, "pixel %d,%d: depth %.9g, but its camera ray hits at depth %.9g", x, y, d,
