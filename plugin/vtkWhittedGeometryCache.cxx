@@ -485,8 +485,6 @@ bool vtkWhittedGeometryCache::Restore(const Key& key, Geometry& g, uint64_t stat
   g.TCoords = entry.Info.TCoords;
   g.Issues = entry.Info.Issues;
   g.Origin = entry.Info.Origin;
-  g.Time = time;
-  g.HasTime = hasTime;
   ++tc.Hits;
   return true;
 }
@@ -522,14 +520,14 @@ const vtkWhittedGeometryCache::Geometry& vtkWhittedGeometryCache::Get(vtkMapper*
   {
     statePrint = StatePrint(mapper, options, radiusScale);
     contentPrint = ContentPrint(poly);
-    if (g.Fingerprinted && g.StatePrint == statePrint && g.ContentPrint == contentPrint)
+    const bool held =
+      g.Fingerprinted && g.StatePrint == statePrint && g.ContentPrint == contentPrint;
+    if (held || this->Restore(key, g, statePrint, contentPrint, hasTime, time))
     {
-      g.Time = time; // the same contents at another time (a static object in an animation)
+      // The time of what is held now (held: the same contents at another time, e.g. a static
+      // object in an animation)
+      g.Time = time;
       g.HasTime = hasTime;
-    }
-    if ((g.Fingerprinted && g.StatePrint == statePrint && g.ContentPrint == contentPrint) ||
-      this->Restore(key, g, statePrint, contentPrint, hasTime, time))
-    {
       g.Fingerprinted = true;
       g.StatePrint = statePrint;
       g.ContentPrint = contentPrint;

@@ -166,7 +166,8 @@ private:
   // them.
   void Keep(const Key& key, Geometry& g, const vtkWhittedPolyDataConverter::Primitives* next,
     bool nextHasTime, double nextTime);
-  // Gives g the kept objects of these fingerprints (what g holds is kept in turn); false if none.
+  // Gives g the kept objects of these fingerprints (what g holds is kept in turn, judged against
+  // hasTime/time, the time of the input asking for them); false if none.
   bool Restore(const Key& key, Geometry& g, uint64_t statePrint, uint64_t contentPrint,
     bool hasTime, double time);
 
