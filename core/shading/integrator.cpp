@@ -1,8 +1,9 @@
-#include "shading/integrator_private.h"
+// The Whitted recursion: the kernels (radiance: a hit's local term plus kr x reflected + kt x refracted, cut by depth
+// and by contribution), the secondary rays with Fresnel and total internal reflection, and camera rays one by one or
+// in blocks whose first hits and shadow rays go as packets. The shading of one hit is in local_shading.cpp and .h.
+#include "shading/local_shading.h"
 
 #include <algorithm>
-#include <new>
-#include <type_traits>
 
 namespace whitted {
 
@@ -21,8 +22,6 @@ RayStats& RayStats::operator+=(const RayStats& o) {
   nonFinitePixels += o.nonFinitePixels;
   return *this;
 }
-
-static_assert(std::is_trivially_destructible_v<Material>, "radiance() keeps an edge material in a union");
 
 Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings, const Vec3& cameraUp)
     : scene_(scene), s_(settings), up_(cameraUp) {
@@ -53,29 +52,6 @@ Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings, c
   buildRemainingBounds();
 }
 
-/// A camera ray's first hit and its shadow rays' answers, found ahead for a block (traceBlock).
-struct Integrator::FirstHit {
-  bool found = false;
-  Hit hit;
-  HitFrame frame;
-  unsigned lights = 0;  ///< Bit j: shadow ray j recorded (ray[j]) and answered (t[j], cut[j]).
-  // Performance note: the arrays in a union, left unconstructed (Ray's members have initialisers): a block would
-  // otherwise write ~1 KB per camera ray before it is used
-  union Slots {
-    Slots() {}
-    struct {
-      Ray ray[kPacketLights];
-      Color t[kPacketLights];
-      bool cut[kPacketLights];
-    } s;
-  } slots;
-  Ray& ray(int j) { return slots.s.ray[j]; }
-  Color& t(int j) { return slots.s.t[j]; }
-  bool& cut(int j) { return slots.s.cut[j]; }
-  const Color& t(int j) const { return slots.s.t[j]; }
-  bool cut(int j) const { return slots.s.cut[j]; }
-};
-
 /// Shadow rays only recorded (the first kPacketLights lights), for a packet.
 struct Integrator::CollectShadows {
   static constexpr bool kCollect = true;
@@ -86,20 +62,6 @@ struct Integrator::CollectShadows {
       fh.lights |= 1u << light;
     }
     return Color(1.0f);
-  }
-};
-
-/// Shadow rays answered by the packets (lights beyond those recorded traced one by one).
-struct Integrator::AnsweredShadows {
-  static constexpr bool kCollect = false;
-  const Scene& scene;
-  const FirstHit& fh;
-  Color operator()(int light, const Ray& sr, float cutoff, RayStats& st, bool& cut) const {
-    if (light < kPacketLights && (fh.lights >> light & 1)) {
-      cut = fh.cut(light);
-      return fh.t(light);
-    }
-    return scene.transmittance(sr, cutoff, &st.nodesVisited, &cut);
   }
 };
 
@@ -222,146 +184,6 @@ double fresnelDielectric(double cosi, double cost, double eta) {
   return std::isfinite(f) ? std::clamp(f, 0.0, 1.0) : 1.0;  // 0/0 only at exactly grazing incidence: reflects
 }
 
-template <bool Shadows, typename ShadowFn>
-Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Vec3& n, const Vec3& v, bool inside,
-                             RayStats& st, Color& highlight, float& shadowCut, ShadowFn& shadows) const {
-  highlight = Color(0.0f);
-  // Colours as VTK's shader forms them (ambient = Ka*Ca, diffuse = Kd*Cd, specular = Ks*Cs)
-  Color ca = m.ambientColor, cd = m.diffuseColor;
-  if (sp.hasColor && m.colorSource != ColorSource::Material) {
-    Color c(sp.color);
-    if (m.colorSource != ColorSource::ScalarsDiffuse) ca = c;
-    if (m.colorSource != ColorSource::ScalarsAmbient) cd = c;
-  }
-  Color amb = m.ambient * ca, dif = m.diffuse * cd, spe = m.specular * m.specularColor;
-  if (!m.lighting) return amb + dif;
-  if (inside) amb *= m.transmittance;  // ambient light reaches the inside of a transmissive object only through it
-
-  // Leave out what cannot be seen: a surface with no diffuse and no specular term (a pure mirror or clear glass)
-  // traces no shadow ray, a light of zero colour or intensity none either, and pow() runs only with a specular
-  // term. The result is bit-identical: each skipped term would have added exactly 0.
-  const bool wantDiffuse = maxComponent(dif) > 0.0f, wantSpecular = maxComponent(spe) > 0.0f;
-  if (!wantDiffuse && !wantSpecular) return amb;
-  Color diffuse(0.0f), specular(0.0f);
-  for (int j = 0; j < int(lights_.size()); ++j) {
-    const PreparedLight& pl = lights_[std::size_t(j)];
-    const Light& light = *pl.light;
-    Color lc = pl.radiance;
-    LightSample ls = sampleLight(pl, sp.p);
-    double att = ls.attenuation;
-    double df = std::max(0.0, att * glm::dot(n, ls.toLight));
-    if (!(df > 0.0)) continue;  // VTK: specular only where df > 0
-    auto specularFactor = [&]() {
-      if (s_.headlightShading) return std::pow(df, double(m.specularPower));
-      Vec3 ld = -ls.toLight;
-      Vec3 r = ld - 2.0 * glm::dot(n, ld) * n;
-      // pow(0, power) is exactly 0 for power > 0: the highlight's far side costs no pow()
-      const double rv = std::max(0.0, glm::dot(r, v));
-      return rv > 0.0 || !(m.specularPower > 0.0f) ? att * std::pow(rv, double(m.specularPower)) : att * 0.0;
-    };
-
-    if constexpr (Shadows) {
-      if (light.castShadows) {
-        Ray sr;
-        sr.origin = offsetRayOrigin(sp.p, sp.pError, sp.ng, ls.toLight);
-        sr.dir = ls.toLight;
-        sr.tMin = 0.0;
-        // Stop just short of a point light (the light itself is not geometry)
-        sr.tMax = std::isfinite(ls.distance) ? glm::length(light.position - sr.origin) * (1.0 - 1e-9) : kInfinity;
-        bool cut = false;
-        Color t = shadows(j, sr, s_.contributionThreshold, st, cut);
-        if constexpr (ShadowFn::kCollect) continue;
-        ++st.shadow;
-        if (maxComponent(t) <= 0.0f) {
-          // Cut by the threshold, the transmittance was below it in every channel: at most that share of this
-          // light's diffuse and specular terms is missing. The tight bound traces the shadow ray again without
-          // the threshold (a bound ray): exactly the transmittance share is missing, 0 if something opaque lies
-          // beyond.
-          if (cut) {
-            const Color full = float(df) * lc * dif + (wantSpecular ? float(specularFactor()) * lc * spe : Color(0.0f));
-            if (s_.truncationLookahead > 0) {
-              ++st.boundRays;
-              shadowCut += maxComponent(scene_.transmittance(sr, 0.0f, &st.nodesVisited) * full);
-            } else {
-              shadowCut += s_.contributionThreshold * maxComponent(full);
-            }
-          }
-          continue;
-        }
-        lc *= t;
-      }
-    }
-
-    diffuse += float(df) * lc;
-    if (wantSpecular) specular += float(specularFactor()) * lc;
-  }
-  highlight = spe * specular;
-  return amb + dif * diffuse;
-}
-
-void Integrator::frameHit(const Ray& ray, const Hit& hit, int depth, const PathState& ps, HitFrame& f) const {
-  f.sp = scene_.surface(ray, hit);
-  const SurfacePoint& sp = f.sp;
-
-  // Orient normals toward the incoming ray (VTK flips normals of back faces)
-  f.d = glm::normalize(ray.dir);
-  f.backFace = glm::dot(sp.ng, f.d) > 0.0;
-  f.nf = f.backFace ? -sp.ns : sp.ns;
-  f.ngf = f.backFace ? -sp.ng : sp.ng;
-  f.v = (depth == 0 && s_.viewFromEye) ? glm::normalize(s_.eye - sp.p) : -f.d;
-
-  // The material: the back material on back faces (VTK's BackfaceProperty), the edge material within half the
-  // edge width of a drawn edge (lit as VTK lights lines over a surface: facing the viewer)
-  const Material* mp = &scene_.material(sp.material);
-  if (f.backFace && mp->backMaterial >= 0) mp = &scene_.material(uint32_t(mp->backMaterial));
-  f.base = mp;
-  f.onEdge = false;
-  f.pathHere = scene_.features().edges ? ps.pathLength + hit.t * glm::length(ray.dir) : 0.0;
-  if (scene_.features().edges && mp->edgeWidth > 0.0f) {
-    const double halfWidth = 0.5 * double(mp->edgeWidth) * (s_.pixelSize + s_.pixelAngle * f.pathHere);
-    if (halfWidth > 0.0 && scene_.edgeDistance(ray, hit, sp.p) <= halfWidth) {
-      new (&f.edge.m) Material(edgeMaterial(*mp));
-      f.onEdge = true;
-      f.nf = f.v;
-    }
-  }
-}
-
-template <bool Shadows, typename ShadowFn>
-Color Integrator::localTerm(const HitFrame& f, const Color& weight, RayStats& st, PathState& ps,
-                            ShadowFn& shadows) const {
-  const SurfacePoint& sp = f.sp;
-  const Material& m = f.material();
-  // Local shading, weighted by opacity as VTK blends it
-  float opacity = m.opacity * (sp.hasColor && m.colorSource != ColorSource::Material ? sp.color.a : 1.0f);
-  // Inside-ness is a property of the material, not of the kernel: an opaque back face keeps its ambient term
-  // whether or not the scene holds a transmissive actor elsewhere
-  const bool inside = f.backFace && maxComponent(m.transmittance) > 0.0f;
-  Color highlight;
-  float shadowCut = 0.0f;
-  const Color body = shadeLocal<Shadows>(sp, m, f.nf, f.v, inside, st, highlight, shadowCut, shadows);
-  // Light the threshold cut from shadow rays: clamping, the body share and the texture factor (<= 1) can only
-  // shrink it
-  if (shadowCut > 0.0f) ps.truncation += maxComponent(weight) * opacity * shadowCut;
-  Color texel(1.0f);
-  if (scene_.features().textures && m.texture >= 0 && sp.hasUV) {
-    Color4 tc = scene_.texture(uint32_t(m.texture)).sample(sp.uv.x, sp.uv.y);
-    texel = Color(tc);
-    opacity *= tc.a;
-  }
-  // The energy rule (bodyWeight): the body colour keeps the share of the opacity that reflection and transmission
-  // leave, the highlight the whole opacity. VTK's shader writes each surface's colour clamped to [0, 1] before
-  // blending it: so does the local term here, so a translucent surface over a highlight blends as VTK's image
-  // does, and a body share applies to the body colour as VTK would write it (clamped: an over-lit body cannot
-  // exceed its share). bodyShare is exactly 1 for VTK's translucency (x / x): that case computes VTK's blend.
-  const Color zero(0.0f), one(1.0f);
-  const float bw = bodyWeight(m, opacity);
-  const float bodyShare = bw < opacity ? bw / opacity : 1.0f;
-  Color local = bodyShare == 1.0f ? (body + highlight) * texel
-                                  : bodyShare * glm::clamp(body * texel, zero, one) + highlight * texel;
-  return opacity * glm::clamp(local, zero, one);
-}
-
 template <bool Reflect, bool Refract>
 void Integrator::secondaryRays(const HitFrame& f, SecondaryRays& out) const {
   const Material& m = f.material();
@@ -422,10 +244,8 @@ void Integrator::secondaryRays(const HitFrame& f, SecondaryRays& out) const {
   }
 }
 
-// The instances the truncation bound (truncation_bound.cpp) calls: a bound ray's hit, unshadowed or with exact
-// shadow rays, and the secondary rays of every kernel that can cut them
-template Color Integrator::localTerm<false>(const HitFrame&, const Color&, RayStats&, PathState&, TraceShadows&) const;
-template Color Integrator::localTerm<true>(const HitFrame&, const Color&, RayStats&, PathState&, ExactShadows&) const;
+// The instances the truncation bound (truncation_bound.cpp) calls: the secondary rays of every kernel that can cut
+// them
 template void Integrator::secondaryRays<true, true>(const HitFrame&, SecondaryRays&) const;
 template void Integrator::secondaryRays<true, false>(const HitFrame&, SecondaryRays&) const;
 template void Integrator::secondaryRays<false, true>(const HitFrame&, SecondaryRays&) const;

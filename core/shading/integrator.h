@@ -1,7 +1,8 @@
 // Whitted integrator: VTK's local shading + shadow rays + kr * reflected + kt * refracted, recursion cut by depth
 // and by contribution. A kernel is chosen per frame from the scene's features (reflection / refraction / shadow
-// machinery compiled out when the scene cannot use it). Tracing and shading are in integrator.cpp, the truncation
-// bound (buildRemainingBounds, cutRayBound) in truncation_bound.cpp.
+// machinery compiled out when the scene cannot use it). The recursion and camera rays are in integrator.cpp, the
+// local shading of one hit in local_shading.cpp (frameHit, localTerm) and local_shading.h (shadeLocal, the light
+// loop), the truncation bound (buildRemainingBounds, cutRayBound) in truncation_bound.cpp.
 #pragma once
 
 #include "scene/scene.h"

@@ -1,10 +1,12 @@
-// The Integrator's private types shared by its two source files: integrator.cpp (tracing and shading) and
-// truncation_bound.cpp (the bound on what the depth cap and the threshold cut). Not for other callers.
+// The Integrator's private types shared by its three source files: integrator.cpp (the Whitted recursion and camera
+// rays), local_shading.cpp (the shading of one hit) and truncation_bound.cpp (the bound on what the depth cap and
+// the threshold cut). Not for other callers.
 #pragma once
 
 #include "shading/integrator.h"
 
 #include <cmath>
+#include <type_traits>
 
 namespace whitted {
 
@@ -23,6 +25,44 @@ struct Integrator::HitFrame {
     Material m;
   } edge;
   const Material& material() const { return onEdge ? edge.m : *base; }
+};
+static_assert(std::is_trivially_destructible_v<Material>, "HitFrame keeps an edge material in a union");
+
+/// A camera ray's first hit and its shadow rays' answers, found ahead for a block (traceBlock).
+struct Integrator::FirstHit {
+  bool found = false;
+  Hit hit;
+  HitFrame frame;
+  unsigned lights = 0;  ///< Bit j: shadow ray j recorded (ray[j]) and answered (t[j], cut[j]).
+  // Performance note: the arrays in a union, left unconstructed (Ray's members have initialisers): a block would
+  // otherwise write ~1 KB per camera ray before it is used
+  union Slots {
+    Slots() {}
+    struct {
+      Ray ray[kPacketLights];
+      Color t[kPacketLights];
+      bool cut[kPacketLights];
+    } s;
+  } slots;
+  Ray& ray(int j) { return slots.s.ray[j]; }
+  Color& t(int j) { return slots.s.t[j]; }
+  bool& cut(int j) { return slots.s.cut[j]; }
+  const Color& t(int j) const { return slots.s.t[j]; }
+  bool cut(int j) const { return slots.s.cut[j]; }
+};
+
+/// Shadow rays answered by the packets (lights beyond those recorded traced one by one).
+struct Integrator::AnsweredShadows {
+  static constexpr bool kCollect = false;
+  const Scene& scene;
+  const FirstHit& fh;
+  Color operator()(int light, const Ray& sr, float cutoff, RayStats& st, bool& cut) const {
+    if (light < kPacketLights && (fh.lights >> light & 1)) {
+      cut = fh.cut(light);
+      return fh.t(light);
+    }
+    return scene.transmittance(sr, cutoff, &st.nodesVisited, &cut);
+  }
 };
 
 /// Shadow rays traced one by one (Scene::transmittance).
