@@ -59,8 +59,19 @@ inline bool Bvh::traverse(const Ray& ray, double& tMax, LeafFn&& leaf, uint64_t*
             stack[sp++] = Entry{tNear[o], n.first[o], n.count[o]};
             prefetchChild(n.first[o], n.count[o], leafData);
           }
+        } else if ((mask & (mask - 1)) == 0 && mask != 0) {
+          // Two entered children (the most common case after one): the farther is pushed, the nearer visited
+          // next; on equal distances the first in child order is visited first, as the sort below would
+          const int o = __builtin_ctz(mask);
+          int far = o;
+          if (tNear[c] > tNear[o]) {
+            far = c;
+            c = o;
+          }
+          stack[sp++] = Entry{tNear[far], n.first[far], n.count[far]};
+          prefetchChild(n.first[far], n.count[far], leafData);
         } else if (mask != 0) {
-          // Entered children by distance, nearest first; the rest are pushed farthest first
+          // Three or four: entered children by distance, nearest first; the rest are pushed farthest first
           int order[4] = {c, 0, 0, 0}, k = 1;
           for (; mask; mask &= mask - 1) {
             const int o = __builtin_ctz(mask);

@@ -43,6 +43,14 @@ struct SphereShape {
       const uint32_t p = leafPrims_[slot];
       return intersectSphere(r, set_.centers[p], radiusAt(set_.radii, p));
     }
+    /// The test of slot on r limited to tMax: true and h set on a hit (the traversal's leaf loops).
+    bool hit(uint32_t slot, const Ray& r, double tMax, PrimHit& h) const {
+      Ray limited = r;
+      limited.tMax = tMax;
+      const std::optional<PrimHit> found = (*this)(slot, limited);
+      if (found) h = *found;
+      return found.has_value();
+    }
 
    private:
     const SphereSet& set_;

@@ -14,6 +14,16 @@ int maxAxis(const Vec3& v) {
 
 }  // namespace
 
+void triangle_detail::edgeFunctionsExtended(double ax, double ay, double bx, double by, double cx, double cy,
+                                            double& u, double& v, double& w) {
+  const long double lu = (long double)cx * by - (long double)cy * bx;
+  const long double lv = (long double)ax * cy - (long double)ay * cx;
+  const long double lw = (long double)bx * ay - (long double)by * ax;
+  u = (double)lu;
+  v = (double)lv;
+  w = (double)lw;
+}
+
 TriangleRay::TriangleRay(const Ray& ray) {
   // Permute axes so the ray direction's largest component is z
   kz = maxAxis(ray.dir);
@@ -30,54 +40,9 @@ TriangleRay::TriangleRay(const Ray& ray) {
 
 std::optional<PrimHit> intersectTriangle(const Ray& ray, const TriangleRay& tr, const Vec3& p0, const Vec3& p1,
                                          const Vec3& p2) {
-  if (!tr.valid) return std::nullopt;
-  const int kx = tr.kx, ky = tr.ky, kz = tr.kz;
-  const double sx = tr.sx, sy = tr.sy, sz = tr.sz;
-
-  // Translate vertices to the ray origin and shear so the ray becomes the +z axis
-  Vec3 a = p0 - ray.origin, b = p1 - ray.origin, c = p2 - ray.origin;
-  double ax = a[kx] - sx * a[kz], ay = a[ky] - sy * a[kz];
-  double bx = b[kx] - sx * b[kz], by = b[ky] - sy * b[kz];
-  double cx = c[kx] - sx * c[kz], cy = c[ky] - sy * c[kz];
-
-  // Scaled barycentrics (edge functions)
-  double u = cx * by - cy * bx;
-  double v = ax * cy - ay * cx;
-  double w = bx * ay - by * ax;
-  if (u == 0.0 || v == 0.0 || w == 0.0) {
-    // Re-evaluate exactly-on-edge cases in extended precision so the sign decision is consistent
-    long double lu = (long double)cx * by - (long double)cy * bx;
-    long double lv = (long double)ax * cy - (long double)ay * cx;
-    long double lw = (long double)bx * ay - (long double)by * ax;
-    u = (double)lu;
-    v = (double)lv;
-    w = (double)lw;
-  }
-  if ((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0)) return std::nullopt;
-  double det = u + v + w;
-  if (det == 0.0 || !std::isfinite(det)) return std::nullopt;
-
-  // Scaled hit distance and range test without division
-  double az = sz * a[kz], bz = sz * b[kz], cz = sz * c[kz];
-  double tScaled = u * az + v * bz + w * cz;
-  double invDet = 1.0 / det;
-  double t = tScaled * invDet;
-  if (!(t > ray.tMin && t < ray.tMax)) return std::nullopt;
-
-  // Reject t that is not conservatively positive given its rounding error (pbrt-v4, section 6.8.7): a ray
-  // leaving a surface can then never re-hit that surface near t = 0, whatever the scene's scale
-  double maxZt = std::max(std::abs(az), std::max(std::abs(bz), std::abs(cz)));
-  double maxXt = std::max(std::abs(ax), std::max(std::abs(bx), std::abs(cx)));
-  double maxYt = std::max(std::abs(ay), std::max(std::abs(by), std::abs(cy)));
-  double deltaZ = gammaBound(3) * maxZt;
-  double deltaX = gammaBound(5) * (maxXt + maxZt);
-  double deltaY = gammaBound(5) * (maxYt + maxZt);
-  double deltaE = 2.0 * (gammaBound(2) * maxXt * maxYt + deltaY * maxXt + deltaX * maxYt);
-  double maxE = std::max(std::abs(u), std::max(std::abs(v), std::abs(w)));
-  double deltaT = 3.0 * (gammaBound(3) * maxE * maxZt + deltaE * maxZt + deltaZ * maxE) * std::abs(invDet);
-  if (t <= deltaT) return std::nullopt;
-  // An edge function exactly zero: the ray meets an edge or vertex, which the neighbouring triangle accepts too
-  return PrimHit{t, v * invDet, w * invDet, deltaT, u == 0.0 || v == 0.0 || w == 0.0};
+  PrimHit h;
+  if (!intersectTriangle(ray.origin, ray.tMin, ray.tMax, tr, p0, p1, p2, h)) return std::nullopt;
+  return h;
 }
 
 Vec3 triangleHitError(const Vec3& p0, const Vec3& p1, const Vec3& p2, double b0, double b1, double b2) {

@@ -36,6 +36,60 @@ struct TriangleRay {
   explicit TriangleRay(const Ray& ray);
 };
 
+namespace triangle_detail {
+/// Re-evaluates the edge functions in extended precision when one is exactly zero, so the sign decision on an edge
+/// or vertex is consistent between the triangles sharing it (rare: out of line).
+[[gnu::noinline, gnu::cold]] void edgeFunctionsExtended(double ax, double ay, double bx, double by, double cx,
+                                                        double cy, double& u, double& v, double& w);
+}  // namespace triangle_detail
+
+/// The watertight test on a ray given by its origin and range (tMin, tMax): true and hit set on a hit. Inline, for
+/// the traversal's leaf loops (no call, no Ray copy per triangle); the optional-returning form below calls it.
+inline bool intersectTriangle(const Vec3& origin, double tMin, double tMax, const TriangleRay& tr, const Vec3& p0,
+                              const Vec3& p1, const Vec3& p2, PrimHit& hit) {
+  if (!tr.valid) return false;
+  const int kx = tr.kx, ky = tr.ky, kz = tr.kz;
+  const double sx = tr.sx, sy = tr.sy, sz = tr.sz;
+
+  // Translate vertices to the ray origin and shear so the ray becomes the +z axis
+  Vec3 a = p0 - origin, b = p1 - origin, c = p2 - origin;
+  double ax = a[kx] - sx * a[kz], ay = a[ky] - sy * a[kz];
+  double bx = b[kx] - sx * b[kz], by = b[ky] - sy * b[kz];
+  double cx = c[kx] - sx * c[kz], cy = c[ky] - sy * c[kz];
+
+  // Scaled barycentrics (edge functions)
+  double u = cx * by - cy * bx;
+  double v = ax * cy - ay * cx;
+  double w = bx * ay - by * ax;
+  if (u == 0.0 || v == 0.0 || w == 0.0) triangle_detail::edgeFunctionsExtended(ax, ay, bx, by, cx, cy, u, v, w);
+  if ((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0)) return false;
+  double det = u + v + w;
+  if (det == 0.0 || !std::isfinite(det)) return false;
+
+  // Scaled hit distance and range test without division
+  double az = sz * a[kz], bz = sz * b[kz], cz = sz * c[kz];
+  double tScaled = u * az + v * bz + w * cz;
+  double invDet = 1.0 / det;
+  double t = tScaled * invDet;
+  if (!(t > tMin && t < tMax)) return false;
+
+  // Reject t that is not conservatively positive given its rounding error (pbrt-v4, section 6.8.7): a ray
+  // leaving a surface can then never re-hit that surface near t = 0, whatever the scene's scale
+  double maxZt = std::max(std::abs(az), std::max(std::abs(bz), std::abs(cz)));
+  double maxXt = std::max(std::abs(ax), std::max(std::abs(bx), std::abs(cx)));
+  double maxYt = std::max(std::abs(ay), std::max(std::abs(by), std::abs(cy)));
+  double deltaZ = gammaBound(3) * maxZt;
+  double deltaX = gammaBound(5) * (maxXt + maxZt);
+  double deltaY = gammaBound(5) * (maxYt + maxZt);
+  double deltaE = 2.0 * (gammaBound(2) * maxXt * maxYt + deltaY * maxXt + deltaX * maxYt);
+  double maxE = std::max(std::abs(u), std::max(std::abs(v), std::abs(w)));
+  double deltaT = 3.0 * (gammaBound(3) * maxE * maxZt + deltaE * maxZt + deltaZ * maxE) * std::abs(invDet);
+  if (t <= deltaT) return false;
+  // An edge function exactly zero: the ray meets an edge or vertex, which the neighbouring triangle accepts too
+  hit = PrimHit{t, v * invDet, w * invDet, deltaT, u == 0.0 || v == 0.0 || w == 0.0};
+  return true;
+}
+
 /// Watertight ray/triangle test (Woop, Benthin, Wald 2013). Returns a hit with t in (tMin, tMax). Exact at edges
 /// and vertices: a ray through a shared edge hits at least one of the two triangles.
 /// Performance note: pass the precomputed TriangleRay when testing many triangles against one ray.
@@ -83,6 +137,11 @@ struct TriangleShape {
     std::optional<PrimHit> operator()(uint32_t slot, const Ray& r) const {
       const glm::uvec3& t = triangles_[slot];
       return intersectTriangle(r, tr_, positions_[t.x], positions_[t.y], positions_[t.z]);
+    }
+    /// The test of slot on r limited to tMax: true and h set on a hit (inline; the traversal's leaf loops).
+    bool hit(uint32_t slot, const Ray& r, double tMax, PrimHit& h) const {
+      const glm::uvec3& t = triangles_[slot];
+      return intersectTriangle(r.origin, r.tMin, tMax, tr_, positions_[t.x], positions_[t.y], positions_[t.z], h);
     }
 
    private:

@@ -75,24 +75,22 @@ constexpr double kTieRelative = 1e-10;
 template <typename Shape>
 bool closestLeaf(const typename Shape::Tester& test, const uint32_t* leafPrims, uint32_t instance, const Ray& ray,
                  double tLimit, uint32_t first, uint32_t count, double& tm, Hit& hit) {
-  Ray r = ray;
   bool found = false;
+  PrimHit h;
   for (uint32_t s = first; s < first + count; ++s) {
-    r.tMax = tm;
-    const std::optional<PrimHit> h = test(s, r);
-    if (h) {
+    if (test.hit(s, ray, tm, h)) {
       uint32_t prim = leafPrims[s];
       double tie = kTieRelative * std::abs(hit.t);
-      bool better = !(h->t >= hit.t - tie);  // clearly closer (or the first hit)
-      if (!better && h->t <= hit.t + tie)
+      bool better = !(h.t >= hit.t - tie);  // clearly closer (or the first hit)
+      if (!better && h.t <= hit.t + tie)
         better = instance < hit.instance || (instance == hit.instance && prim < hit.prim);
       if (better) {
-        hit.t = h->t;
+        hit.t = h.t;
         hit.instance = instance;
         hit.prim = prim;
         hit.slot = s;
-        hit.u = h->u;
-        hit.v = h->v;
+        hit.u = h.u;
+        hit.v = h.v;
         tm = std::min(tLimit, hit.t + kTieRelative * std::abs(hit.t));
         found = true;
       }
@@ -169,17 +167,19 @@ bool crossObject(const Object& o, const typename Shape::Geometry& g, const Ray& 
           // Every crossing of a transmissive surface multiplies by kt once; an opaque one blocks. A hit on a
           // primitive boundary that coincides (within both rounding bounds) with a boundary hit counted
           // already is the same crossing seen by a neighbour (shared edge or vertex, tube joint): skipped.
+          PrimHit h;
+          if (!test.hit(k, r, r.tMax, h)) continue;
+          if (opaque) return true;
           Ray rr = r;
-          for (int guard = 0; guard < 4; ++guard) {
-            const std::optional<PrimHit> h = test(k, rr);
-            if (!h) break;
-            if (opaque) return true;
-            if (!h->boundary || !counted.seenOrAdd(h->t, h->tError)) {
+          for (int guard = 0;;) {
+            if (!h.boundary || !counted.seenOrAdd(h.t, h.tError)) {
               atten *= kt;
               if (maxComponent(atten) < cutoff) return cut = true;
             }
             if constexpr (Shape::kCrossedOnce) break;
-            rr.tMin = h->t;  // the primitive's next crossing
+            if (++guard == 4) break;
+            rr.tMin = h.t;  // the primitive's next crossing
+            if (!test.hit(k, rr, rr.tMax, h)) break;
           }
         }
         return false;
@@ -200,7 +200,7 @@ unsigned blockObject4(const Object& o, const typename Shape::Geometry& g, const 
         for (unsigned m = rays; m; m &= m - 1) {
           const int i = __builtin_ctz(m);
           for (uint32_t k = f; k < f + c; ++k)
-            if (test[i](k, r[i])) {
+            if (PrimHit h; test[i].hit(k, r[i], r[i].tMax, h)) {
               blocked |= 1u << i;
               break;
             }
