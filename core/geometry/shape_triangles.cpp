@@ -5,15 +5,6 @@
 
 namespace whitted {
 
-namespace {
-
-int maxAxis(const Vec3& v) {
-  Vec3 a = glm::abs(v);
-  return (a.x > a.y) ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
-}
-
-}  // namespace
-
 void triangle_detail::edgeFunctionsExtended(double ax, double ay, double bx, double by, double cx, double cy,
                                             double& u, double& v, double& w) {
   const long double lu = (long double)cx * by - (long double)cy * bx;
@@ -25,12 +16,15 @@ void triangle_detail::edgeFunctionsExtended(double ax, double ay, double bx, dou
 }
 
 TriangleRay::TriangleRay(const Ray& ray) {
-  // Permute axes so the ray direction's largest component is z
-  kz = maxAxis(ray.dir);
-  kx = (kz + 1) % 3;
-  ky = (kx + 1) % 3;
-  if (ray.dir[kz] < 0.0) std::swap(kx, ky);
-  double dz = ray.dir[kz];
+  // Permute axes so the ray direction's largest component is z (on ties y over x, z over both), keeping the
+  // winding: (kx, ky) = the two following axes, swapped for a negative dz
+  const double ax = std::abs(ray.dir.x), ay = std::abs(ray.dir.y), az = std::abs(ray.dir.z);
+  static constexpr int kNext[3][2] = {{1, 2}, {2, 0}, {0, 1}};
+  kz = (ax > ay) ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+  const double dz = ray.dir[kz];
+  const bool flip = dz < 0.0;
+  kx = kNext[kz][flip];
+  ky = kNext[kz][!flip];
   valid = dz != 0.0 && isFinite(ray.dir);
   if (!valid) return;
   sx = ray.dir[kx] / dz;
