@@ -60,6 +60,16 @@ class vtkWhittedFrameStatistics;
 class vtkWhittedPassInternals;
 class vtkWhittedSceneConverter;
 
+// The pass's part of the settings table: accessors and members of the Pass rows
+#define VTK_WHITTED_PASS_ACCESSORS(owner, type, name, def, min, max, doc)                          \
+  VTK_WHITTED_PASS_ACCESSORS_##owner(type, name)
+#define VTK_WHITTED_PASS_ACCESSORS_Pass(type, name) VTK_WHITTED_SETTING_ACCESSORS_##type(name)
+#define VTK_WHITTED_PASS_ACCESSORS_View(type, name)
+#define VTK_WHITTED_PASS_MEMBERS(owner, type, name, def, min, max, doc)                            \
+  VTK_WHITTED_PASS_MEMBERS_##owner(type, name)
+#define VTK_WHITTED_PASS_MEMBERS_Pass(type, name) VTK_WHITTED_SETTING_MEMBER(type, name)
+#define VTK_WHITTED_PASS_MEMBERS_View(type, name)
+
 class VTKWHITTED_EXPORT vtkWhittedPass : public vtkRenderPass
 {
 public:
@@ -80,8 +90,10 @@ public:
 
   ///@{
   /**
-   * Settings of full-quality frames. The meaning, default and range of each are in the settings
-   * table, vtkWhittedSettings.h (also plugin/README.md); setters clamp to the range.
+   * The settings: SetX, GetX (numbers: setters clamp to the range, reported by GetXMinValue and
+   * GetXMaxValue; booleans also XOn, XOff), generated from the settings table,
+   * vtkWhittedSettings.h, which holds the meaning, default and range of each (also
+   * plugin/README.md). Full-quality frames:
    * MaxDepth: secondary bounces (reflection, refraction) per camera ray.
    * SamplesPerPixel: stratified, jittered camera rays per pixel.
    * AdaptiveSampling: SamplesPerPixel only where the neighbouring pixels do not predict a pixel.
@@ -100,49 +112,9 @@ public:
    * (statistics: GetNumberOfTimeCacheHits); 0 = off. Unlike a cache keyed by time, entries are
    * keyed by a fingerprint of the data's contents and the mapper's colouring state, so an
    * upstream edit never shows stale geometry.
+   * InteractiveMaxDepth, InteractiveShadows: the interactive quality (see SetInteractive below).
    */
-  vtkSetClampMacro(
-    MaxDepth, int, vtkWhittedSettings::MaxDepth.Minimum, vtkWhittedSettings::MaxDepth.Maximum);
-  vtkGetMacro(MaxDepth, int);
-  vtkSetClampMacro(SamplesPerPixel, int, vtkWhittedSettings::SamplesPerPixel.Minimum,
-    vtkWhittedSettings::SamplesPerPixel.Maximum);
-  vtkGetMacro(SamplesPerPixel, int);
-  vtkSetMacro(AdaptiveSampling, bool);
-  vtkGetMacro(AdaptiveSampling, bool);
-  vtkBooleanMacro(AdaptiveSampling, bool);
-  vtkSetMacro(Shadows, bool);
-  vtkGetMacro(Shadows, bool);
-  vtkBooleanMacro(Shadows, bool);
-  vtkSetMacro(Reflections, bool);
-  vtkGetMacro(Reflections, bool);
-  vtkBooleanMacro(Reflections, bool);
-  vtkSetMacro(Refractions, bool);
-  vtkGetMacro(Refractions, bool);
-  vtkBooleanMacro(Refractions, bool);
-  vtkSetMacro(Fresnel, bool);
-  vtkGetMacro(Fresnel, bool);
-  vtkBooleanMacro(Fresnel, bool);
-  vtkSetClampMacro(ContributionThreshold, double, vtkWhittedSettings::ContributionThreshold.Minimum,
-    vtkWhittedSettings::ContributionThreshold.Maximum);
-  vtkGetMacro(ContributionThreshold, double);
-  vtkSetClampMacro(TargetError, double, vtkWhittedSettings::TargetError.Minimum,
-    vtkWhittedSettings::TargetError.Maximum);
-  vtkGetMacro(TargetError, double);
-  vtkSetClampMacro(TimeBudget, double, vtkWhittedSettings::TimeBudget.Minimum,
-    vtkWhittedSettings::TimeBudget.Maximum);
-  vtkGetMacro(TimeBudget, double);
-  vtkSetMacro(ShowErrorImage, bool);
-  vtkGetMacro(ShowErrorImage, bool);
-  vtkBooleanMacro(ShowErrorImage, bool);
-  vtkSetClampMacro(ErrorImageScale, double, vtkWhittedSettings::ErrorImageScale.Minimum,
-    vtkWhittedSettings::ErrorImageScale.Maximum);
-  vtkGetMacro(ErrorImageScale, double);
-  vtkSetClampMacro(NumberOfThreads, int, vtkWhittedSettings::NumberOfThreads.Minimum,
-    vtkWhittedSettings::NumberOfThreads.Maximum);
-  vtkGetMacro(NumberOfThreads, int);
-  vtkSetClampMacro(TimeCacheMemory, int, vtkWhittedSettings::TimeCacheMemory.Minimum,
-    vtkWhittedSettings::TimeCacheMemory.Maximum);
-  vtkGetMacro(TimeCacheMemory, int);
+  VTK_WHITTED_SETTINGS(VTK_WHITTED_PASS_ACCESSORS)
   ///@}
 
   ///@{
@@ -154,17 +126,11 @@ public:
    * neighbour, colour and depth). The full-quality settings above are left as they are, so turning
    * Interactive off is all it takes to get full quality back. vtkPVWhittedView sets Interactive for
    * each of its frames. Interactive default off, InteractiveImageReduction default 1;
-   * InteractiveMaxDepth and InteractiveShadows: see vtkWhittedSettings.h.
+   * InteractiveMaxDepth and InteractiveShadows: settings above.
    */
   vtkSetMacro(Interactive, bool);
   vtkGetMacro(Interactive, bool);
   vtkBooleanMacro(Interactive, bool);
-  vtkSetClampMacro(InteractiveMaxDepth, int, vtkWhittedSettings::InteractiveMaxDepth.Minimum,
-    vtkWhittedSettings::InteractiveMaxDepth.Maximum);
-  vtkGetMacro(InteractiveMaxDepth, int);
-  vtkSetMacro(InteractiveShadows, bool);
-  vtkGetMacro(InteractiveShadows, bool);
-  vtkBooleanMacro(InteractiveShadows, bool);
   vtkSetClampMacro(
     InteractiveImageReduction, int, 1, vtkWhittedSettings::MaximumImageReduction.Maximum);
   vtkGetMacro(InteractiveImageReduction, int);
@@ -323,25 +289,12 @@ protected:
   vtkWhittedPass();
   ~vtkWhittedPass() override;
 
-  int MaxDepth = vtkWhittedSettings::MaxDepth.Default;
-  int SamplesPerPixel = vtkWhittedSettings::SamplesPerPixel.Default;
-  bool AdaptiveSampling = vtkWhittedSettings::AdaptiveSampling.Default;
-  bool Shadows = vtkWhittedSettings::Shadows.Default;
-  bool Reflections = vtkWhittedSettings::Reflections.Default;
-  bool Refractions = vtkWhittedSettings::Refractions.Default;
-  bool Fresnel = vtkWhittedSettings::Fresnel.Default;
-  double ContributionThreshold = vtkWhittedSettings::ContributionThreshold.Default;
-  double TargetError = vtkWhittedSettings::TargetError.Default;
-  double TimeBudget = vtkWhittedSettings::TimeBudget.Default;
-  int NumberOfThreads = vtkWhittedSettings::NumberOfThreads.Default;
-  int TimeCacheMemory = vtkWhittedSettings::TimeCacheMemory.Default;
-  bool ShowErrorImage = vtkWhittedSettings::ShowErrorImage.Default;
-  double ErrorImageScale = vtkWhittedSettings::ErrorImageScale.Default;
+  // The settings (the Pass rows of the table), at their defaults
+  VTK_WHITTED_SETTINGS(VTK_WHITTED_PASS_MEMBERS)
+  // Per-frame state, set by the caller (vtkPVWhittedView: for each frame)
   int RefinementRoundsPerFrame = 0;
   double RefinementSliceTime = 0.0;
   bool Interactive = false;
-  int InteractiveMaxDepth = vtkWhittedSettings::InteractiveMaxDepth.Default;
-  bool InteractiveShadows = vtkWhittedSettings::InteractiveShadows.Default;
   int InteractiveImageReduction = 1;
   int ImageSplit[2] = { 1, 0 };
   int AbortAfterTilesForTesting = -1;

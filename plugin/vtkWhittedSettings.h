@@ -3,13 +3,24 @@
  * @brief   the one table of the ray tracer's user settings: name, owner, default, range, meaning
  *
  * Every setting a user sets on vtkWhittedPass, or on ParaView's Whitted Ray Trace view
- * (vtkPVWhittedView, xml/WhittedView.xml), is one row of VTK_WHITTED_SETTINGS below. The pass and
- * the view take their defaults and clamps from this table (e.g.
- * vtkWhittedSettings::MaxDepth.Default); the other places that state them are checked against it:
+ * (vtkPVWhittedView, xml/WhittedView.xml), is one row of VTK_WHITTED_SETTINGS below. A new setting
+ * is a row here, a property in the XML and a row in plugin/README.md, plus what it does.
+ * Generated from the table (macros below; VTK's Python and ParaView's client-server wrappers expand
+ * macros when they parse a header, so they see every generated setter):
+ * - vtkWhittedPass: the members at their defaults, Set (clamped to the range) / Get / On / Off,
+ *   PrintSelf.
+ * - vtkPVWhittedView: the one-line forwarders of the pass's settings; for its own settings the
+ *   members, getters, clamped setters of numbers, PrintSelf.
+ * Checked against the table (stated by hand, or generated and worth proving; a test fails when they
+ * disagree):
+ * - testing/settings/check_settings.py, in both builds (vtk.settings.Sources,
+ *   paraview.settings.sources): the XML's properties (label, command, default_values, range
+ *   domain, Documentation: the GUI's tooltips, property group), the view's and the pass's
+ *   generated accessors, the Python-wrapped pass (VTK build), the settings tables of
+ *   plugin/README.md.
  * - TestWhittedSettings (VTK build): the pass's defaults and clamps.
- * - paraview.settings (ParaView build): the view's defaults, clamps and forwarding to the pass,
- *   the ParaView XML's default_values, range domains and Documentation (the GUI's tooltips), and
- *   the settings tables of plugin/README.md.
+ * - paraview.settings (ParaView build): the view's defaults, clamps and forwarding to the pass, and
+ *   the XML as ParaView's server manager reads it.
  *
  * Columns: X(owner, type, name, default, minimum, maximum, documentation)
  * - owner: Pass, a vtkWhittedPass setting (the ParaView view forwards it in one line), or View, a
@@ -123,6 +134,25 @@ namespace vtkWhittedSettings
 VTK_WHITTED_SETTINGS(VTK_WHITTED_SETTING_CONSTANT)
 #undef VTK_WHITTED_SETTING_CONSTANT
 }
+
+// Building blocks of what the classes generate from the table (each class selects its rows by
+// owner, e.g. VTK_WHITTED_PASS_ACCESSORS in vtkWhittedPass.h).
+// A setting's accessors in VTK style: SetX (numbers clamped to the table's range, reported by
+// GetXMinValue and GetXMaxValue) and GetX; booleans also XOn and XOff.
+#define VTK_WHITTED_SETTING_ACCESSORS_bool(name)                                                   \
+  vtkSetMacro(name, bool);                                                                         \
+  vtkGetMacro(name, bool);                                                                         \
+  vtkBooleanMacro(name, bool);
+#define VTK_WHITTED_SETTING_ACCESSORS_int(name) VTK_WHITTED_SETTING_CLAMPED(int, name)
+#define VTK_WHITTED_SETTING_ACCESSORS_double(name) VTK_WHITTED_SETTING_CLAMPED(double, name)
+#define VTK_WHITTED_SETTING_CLAMPED(type, name)                                                    \
+  vtkSetClampMacro(                                                                                \
+    name, type, vtkWhittedSettings::name.Minimum, vtkWhittedSettings::name.Maximum);               \
+  vtkGetMacro(name, type);
+// A setting's data member, at the table's default
+#define VTK_WHITTED_SETTING_MEMBER(type, name) type name = vtkWhittedSettings::name.Default;
+// A setting's line of PrintSelf(ostream& os, vtkIndent indent)
+#define VTK_WHITTED_SETTING_PRINT(name) os << indent << #name ": " << this->name << "\n";
 
 #endif
 // VTK-HeaderTest-Exclude: vtkWhittedSettings.h

@@ -7,16 +7,13 @@
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLState.h"
-#include "vtkMultiProcessStream.h"
 #include "vtkPVDataRepresentation.h"
 #include "vtkPVProgressHandler.h"
 #include "vtkPVRenderViewDataDeliveryManager.h"
 #include "vtkPVSession.h"
 #include "vtkPVSynchronizedRenderer.h"
 #include "vtkPVWhittedPass.h"
-#include "vtkProcessModule.h"
 #include "vtkRenderWindow.h"
-#include "vtkRenderWindowInteractor.h"
 #include "vtkRenderer.h"
 #include "vtkTextActor.h"
 #include "vtkTextProperty.h"
@@ -25,7 +22,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 
 vtkStandardNewMacro(vtkPVWhittedView);
 
@@ -87,141 +83,20 @@ vtkPVWhittedView::~vtkPVWhittedView()
 }
 
 //------------------------------------------------------------------------------
-// Pass settings: one line each.
-void vtkPVWhittedView::SetMaxDepth(int value)
-{
-  this->WhittedPass->SetMaxDepth(value);
-}
-int vtkPVWhittedView::GetMaxDepth()
-{
-  return this->WhittedPass->GetMaxDepth();
-}
-void vtkPVWhittedView::SetSamplesPerPixel(int value)
-{
-  this->WhittedPass->SetSamplesPerPixel(value);
-}
-int vtkPVWhittedView::GetSamplesPerPixel()
-{
-  return this->WhittedPass->GetSamplesPerPixel();
-}
-void vtkPVWhittedView::SetAdaptiveSampling(bool value)
-{
-  this->WhittedPass->SetAdaptiveSampling(value);
-}
-bool vtkPVWhittedView::GetAdaptiveSampling()
-{
-  return this->WhittedPass->GetAdaptiveSampling();
-}
-void vtkPVWhittedView::SetShadows(bool value)
-{
-  this->WhittedPass->SetShadows(value);
-}
-bool vtkPVWhittedView::GetShadows()
-{
-  return this->WhittedPass->GetShadows();
-}
-void vtkPVWhittedView::SetReflections(bool value)
-{
-  this->WhittedPass->SetReflections(value);
-}
-bool vtkPVWhittedView::GetReflections()
-{
-  return this->WhittedPass->GetReflections();
-}
-void vtkPVWhittedView::SetRefractions(bool value)
-{
-  this->WhittedPass->SetRefractions(value);
-}
-bool vtkPVWhittedView::GetRefractions()
-{
-  return this->WhittedPass->GetRefractions();
-}
-void vtkPVWhittedView::SetContributionThreshold(double value)
-{
-  this->WhittedPass->SetContributionThreshold(value);
-}
-double vtkPVWhittedView::GetContributionThreshold()
-{
-  return this->WhittedPass->GetContributionThreshold();
-}
-void vtkPVWhittedView::SetTargetError(double value)
-{
-  this->WhittedPass->SetTargetError(value);
-}
-double vtkPVWhittedView::GetTargetError()
-{
-  return this->WhittedPass->GetTargetError();
-}
-void vtkPVWhittedView::SetTimeBudget(double value)
-{
-  this->WhittedPass->SetTimeBudget(value);
-}
-double vtkPVWhittedView::GetTimeBudget()
-{
-  return this->WhittedPass->GetTimeBudget();
-}
-void vtkPVWhittedView::SetNumberOfThreads(int value)
-{
-  this->WhittedPass->SetNumberOfThreads(value);
-}
-int vtkPVWhittedView::GetNumberOfThreads()
-{
-  return this->WhittedPass->GetNumberOfThreads();
-}
-void vtkPVWhittedView::SetTimeCacheMemory(int value)
-{
-  this->WhittedPass->SetTimeCacheMemory(value);
-}
-int vtkPVWhittedView::GetTimeCacheMemory()
-{
-  return this->WhittedPass->GetTimeCacheMemory();
-}
-void vtkPVWhittedView::SetFresnel(bool value)
-{
-  this->WhittedPass->SetFresnel(value);
-}
-bool vtkPVWhittedView::GetFresnel()
-{
-  return this->WhittedPass->GetFresnel();
-}
+// Pass settings (the Pass rows of the settings table): one line each.
+#define VTK_WHITTED_VIEW_FORWARD(owner, type, name, def, min, max, doc)                            \
+  VTK_WHITTED_VIEW_FORWARD_##owner(type, name)
+#define VTK_WHITTED_VIEW_FORWARD_Pass(type, name)                                                  \
+  void vtkPVWhittedView::Set##name(type value) { this->WhittedPass->Set##name(value); }            \
+  type vtkPVWhittedView::Get##name() { return this->WhittedPass->Get##name(); }
+#define VTK_WHITTED_VIEW_FORWARD_View(type, name)
+VTK_WHITTED_SETTINGS(VTK_WHITTED_VIEW_FORWARD)
 void vtkPVWhittedView::SetShadingErrorForTesting(int value)
 {
   this->WhittedPass->SetShadingErrorForTesting(value);
 }
-void vtkPVWhittedView::SetInteractiveMaxDepth(int value)
-{
-  this->WhittedPass->SetInteractiveMaxDepth(value);
-}
-int vtkPVWhittedView::GetInteractiveMaxDepth()
-{
-  return this->WhittedPass->GetInteractiveMaxDepth();
-}
-void vtkPVWhittedView::SetInteractiveShadows(bool value)
-{
-  this->WhittedPass->SetInteractiveShadows(value);
-}
-bool vtkPVWhittedView::GetInteractiveShadows()
-{
-  return this->WhittedPass->GetInteractiveShadows();
-}
 
-void vtkPVWhittedView::SetShowErrorImage(bool value)
-{
-  this->WhittedPass->SetShowErrorImage(value);
-}
-bool vtkPVWhittedView::GetShowErrorImage()
-{
-  return this->WhittedPass->GetShowErrorImage();
-}
-void vtkPVWhittedView::SetErrorImageScale(double value)
-{
-  this->WhittedPass->SetErrorImageScale(value);
-}
-double vtkPVWhittedView::GetErrorImageScale()
-{
-  return this->WhittedPass->GetErrorImageScale();
-}
-
+//------------------------------------------------------------------------------
 vtkWhittedPass* vtkPVWhittedView::GetWhittedPass()
 {
   return this->WhittedPass;
@@ -463,204 +338,6 @@ void vtkPVWhittedView::CountFrame(vtkObject*, unsigned long, void*)
 }
 
 //------------------------------------------------------------------------------
-// Progressive display
-//------------------------------------------------------------------------------
-int vtkPVWhittedView::ProgressiveRoundsForFrame(bool interactive)
-{
-  if (interactive || !this->ProgressiveDisplay || this->GetInCaptureScreenshot())
-  {
-    return 0; // screenshots are refined fully
-  }
-  if (this->RefinementRoundsPerRender > 0)
-  {
-    return this->RefinementRoundsPerRender;
-  }
-  // Automatic: one round per frame where the view can render again by itself: the GUI, whose Qt
-  // interactor runs timers in the application's event loop (pvbatch and pvpython have interactors
-  // too, but nothing runs their timers); scripts get the whole refinement in one render
-  vtkRenderWindowInteractor* iren = this->GetInteractor();
-  return iren && iren->IsA("QVTKInteractor") ? 1 : 0;
-}
-
-//------------------------------------------------------------------------------
-void vtkPVWhittedView::AfterTracedFrame(bool interactive, int vtkNotUsed(reduction))
-{
-  vtkWhittedFrameStatistics* stats = this->WhittedPass->GetLastFrameStatistics();
-  this->RefinementUnfinished =
-    !interactive && !stats->GetFailed() && !stats->GetRefinementFinished();
-  // In the GUI: render again soon (ParaView's interactor helper turns the interactor's render
-  // into a still render of this view's proxy), unless an earlier timer is still pending
-  vtkRenderWindowInteractor* iren = this->GetInteractor();
-  if (this->RefinementUnfinished && this->RefinementRoundsPerRender == 0 &&
-    this->ProgressiveRoundsForFrame(false) > 0 && this->ProgressiveTimerId < 0)
-  {
-    this->ProgressiveTimerId = iren->CreateOneShotTimer(1);
-  }
-}
-
-//------------------------------------------------------------------------------
-void vtkPVWhittedView::SetupInteractor(vtkRenderWindowInteractor* iren)
-{
-  this->DetachInteractor();
-  this->Superclass::SetupInteractor(iren);
-  if (iren)
-  {
-    this->InteractorObservers[0] =
-      iren->AddObserver(vtkCommand::TimerEvent, this, &vtkPVWhittedView::OnInteractorEvent);
-    this->InteractorObservers[1] = iren->AddObserver(
-      vtkCommand::StartInteractionEvent, this, &vtkPVWhittedView::OnInteractorEvent);
-  }
-}
-
-//------------------------------------------------------------------------------
-void vtkPVWhittedView::DetachInteractor()
-{
-  if (vtkRenderWindowInteractor* iren = this->GetInteractor())
-  {
-    if (this->ProgressiveTimerId >= 0)
-    {
-      iren->DestroyTimer(this->ProgressiveTimerId);
-    }
-    for (unsigned long tag : this->InteractorObservers)
-    {
-      iren->RemoveObserver(tag);
-    }
-  }
-  this->ProgressiveTimerId = -1;
-  this->InteractorObservers[0] = this->InteractorObservers[1] = 0;
-}
-
-//------------------------------------------------------------------------------
-void vtkPVWhittedView::OnInteractorEvent(vtkObject*, unsigned long event, void* callData)
-{
-  vtkRenderWindowInteractor* iren = this->GetInteractor();
-  if (!iren || this->ProgressiveTimerId < 0)
-  {
-    return;
-  }
-  if (event == vtkCommand::StartInteractionEvent)
-  {
-    // Interaction interrupts progressive display at once (its frames start over anyway)
-    iren->DestroyTimer(this->ProgressiveTimerId);
-    this->ProgressiveTimerId = -1;
-    return;
-  }
-  if (!callData || *static_cast<int*>(callData) != this->ProgressiveTimerId)
-  {
-    return; // another timer (e.g. ParaView's delayed still render)
-  }
-  this->ProgressiveTimerId = -1;
-  if (this->RefinementUnfinished && this->ProgressiveDisplay)
-  {
-    iren->Render();
-  }
-}
-
-//------------------------------------------------------------------------------
-// Error annotation
-//------------------------------------------------------------------------------
-void vtkPVWhittedView::SetShowErrorAnnotation(bool value)
-{
-  if (this->ShowErrorAnnotation != value)
-  {
-    this->ShowErrorAnnotation = value;
-    this->ErrorAnnotation->SetVisibility(value);
-    this->Modified();
-  }
-}
-
-//------------------------------------------------------------------------------
-const char* vtkPVWhittedView::GetErrorAnnotationText()
-{
-  return this->ErrorAnnotationText.c_str();
-}
-
-//------------------------------------------------------------------------------
-void vtkPVWhittedView::UpdateErrorAnnotation(bool interactive, int reduction)
-{
-  vtkWhittedFrameStatistics* stats = this->WhittedPass->GetLastFrameStatistics();
-  char text[256];
-  if (stats->GetFailed())
-  {
-    std::snprintf(text, sizeof text, "Whitted: frame failed");
-  }
-  else if (interactive)
-  {
-    std::snprintf(text, sizeof text, "Whitted: interactive frame %.0f ms at 1/%d resolution",
-      stats->GetTotalTime() * 1e3, reduction);
-  }
-  else
-  {
-    const int* size = stats->GetSize();
-    const double pixels = std::max(1.0, static_cast<double>(size[0]) * size[1]);
-    const double spp = static_cast<double>(stats->GetNumberOfSamples()) / pixels;
-    const double target = this->WhittedPass->GetTargetError();
-    char status[96];
-    if (target > 0.0)
-    {
-      std::snprintf(status, sizeof status, "target %.4g %s", target,
-        stats->GetTargetErrorMet() ? "met" : "not met");
-    }
-    else
-    {
-      std::snprintf(status, sizeof status, "no target");
-    }
-    std::snprintf(text, sizeof text, "Whitted: %.0f ms, %.2f spp, error %.4f (RMS estimate)\n%s%s",
-      stats->GetRefinementSeconds() * 1e3, spp, stats->GetEstimatedError()[0], status,
-      stats->GetRefinementFinished() ? "" : ", refining");
-  }
-  this->ErrorAnnotationText = text;
-  this->ErrorAnnotation->SetInput(text);
-}
-
-//------------------------------------------------------------------------------
-int vtkPVWhittedView::ErrorAnnotationRelay(bool distributed)
-{
-  // Only when the server renders for the client (remote rendering), on the two processes that
-  // exchange the image: the client and the server's root (satellites have no client controller).
-  // Both take this decision from the same synchronized state, so a send always meets its receive.
-  vtkPVSession* session = this->GetSession();
-  vtkProcessModule* pm = vtkProcessModule::GetProcessModule();
-  if (!distributed || this->GetMakingSelection() || !session || !pm)
-  {
-    return RelayNone;
-  }
-  switch (pm->GetProcessType())
-  {
-    case vtkProcessModule::PROCESS_CLIENT:
-      return session->GetController(vtkPVSession::RENDER_SERVER_ROOT) ? RelayReceive : RelayNone;
-    case vtkProcessModule::PROCESS_SERVER:
-    case vtkProcessModule::PROCESS_RENDER_SERVER:
-      return session->GetController(vtkPVSession::CLIENT) ? RelaySend : RelayNone;
-    default:
-      return RelayNone;
-  }
-}
-
-//------------------------------------------------------------------------------
-void vtkPVWhittedView::RelayErrorAnnotation(vtkObject*, unsigned long, void*)
-{
-  // The composited renderer has finished (the server traced and sent its image, the client received
-  // it); the client's non-composited renderer, which draws the annotation, comes next
-  const int relay = this->AnnotationRelay;
-  this->AnnotationRelay = RelayNone;
-  vtkPVSession* session = this->GetSession();
-  if (relay == RelaySend)
-  {
-    vtkMultiProcessStream stream;
-    stream << this->ErrorAnnotationText;
-    session->GetController(vtkPVSession::CLIENT)->Send(stream, 1, ErrorAnnotationTag);
-  }
-  else if (relay == RelayReceive)
-  {
-    vtkMultiProcessStream stream;
-    session->GetController(vtkPVSession::RENDER_SERVER_ROOT)->Receive(stream, 1, ErrorAnnotationTag);
-    stream >> this->ErrorAnnotationText;
-    this->ErrorAnnotation->SetInput(this->ErrorAnnotationText.c_str());
-  }
-}
-
-//------------------------------------------------------------------------------
 void vtkPVWhittedView::ForwardProgress(vtkObject*, unsigned long, void* callData)
 {
   if (!callData)
@@ -685,15 +362,15 @@ void vtkPVWhittedView::ForwardProgress(vtkObject*, unsigned long, void* callData
 }
 
 //------------------------------------------------------------------------------
+// PrintSelf: the view's own settings (the View rows of the table), its state, then the pass
+#define VTK_WHITTED_VIEW_PRINT(owner, type, name, def, min, max, doc)                              \
+  VTK_WHITTED_VIEW_PRINT_##owner(name)
+#define VTK_WHITTED_VIEW_PRINT_Pass(name)
+#define VTK_WHITTED_VIEW_PRINT_View(name) VTK_WHITTED_SETTING_PRINT(name)
 void vtkPVWhittedView::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "InteractiveFrameTime: " << this->InteractiveFrameTime << "\n";
-  os << indent << "MaximumImageReduction: " << this->MaximumImageReduction << "\n";
-  os << indent << "ReplicateGeometry: " << this->ReplicateGeometry << "\n";
-  os << indent << "ProgressiveDisplay: " << this->ProgressiveDisplay << "\n";
-  os << indent << "RefinementRoundsPerRender: " << this->RefinementRoundsPerRender << "\n";
-  os << indent << "ShowErrorAnnotation: " << this->ShowErrorAnnotation << "\n";
+  VTK_WHITTED_SETTINGS(VTK_WHITTED_VIEW_PRINT)
   os << indent << "RefinementUnfinished: " << this->RefinementUnfinished << "\n";
   os << indent << "TracedFrameCount: " << this->TracedFrameCount << "\n";
   os << indent << "LastRenderTime: " << this->LastRenderTime << "\n";

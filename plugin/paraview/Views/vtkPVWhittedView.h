@@ -63,6 +63,26 @@ class vtkRenderWindowInteractor;
 class vtkTextActor;
 class vtkWhittedPass;
 
+// The view's part of the settings table. Pass rows: one-line forwarders to the pass (declared
+// here, defined in vtkPVWhittedView.cxx). View rows: members, getters, clamped setters of numbers.
+#define VTK_WHITTED_VIEW_FORWARDERS(owner, type, name, def, min, max, doc)                         \
+  VTK_WHITTED_VIEW_FORWARDERS_##owner(type, name)
+#define VTK_WHITTED_VIEW_FORWARDERS_Pass(type, name)                                               \
+  void Set##name(type value);                                                                      \
+  type Get##name();
+#define VTK_WHITTED_VIEW_FORWARDERS_View(type, name)
+#define VTK_WHITTED_VIEW_ACCESSORS(owner, type, name, def, min, max, doc)                          \
+  VTK_WHITTED_VIEW_ACCESSORS_##owner(type, name)
+#define VTK_WHITTED_VIEW_ACCESSORS_Pass(type, name)
+#define VTK_WHITTED_VIEW_ACCESSORS_View(type, name) VTK_WHITTED_VIEW_ACCESSORS_##type(name)
+#define VTK_WHITTED_VIEW_ACCESSORS_bool(name) vtkGetMacro(name, bool);
+#define VTK_WHITTED_VIEW_ACCESSORS_int(name) VTK_WHITTED_SETTING_ACCESSORS_int(name)
+#define VTK_WHITTED_VIEW_ACCESSORS_double(name) VTK_WHITTED_SETTING_ACCESSORS_double(name)
+#define VTK_WHITTED_VIEW_MEMBERS(owner, type, name, def, min, max, doc)                            \
+  VTK_WHITTED_VIEW_MEMBERS_##owner(type, name)
+#define VTK_WHITTED_VIEW_MEMBERS_Pass(type, name)
+#define VTK_WHITTED_VIEW_MEMBERS_View(type, name) VTK_WHITTED_SETTING_MEMBER(type, name)
+
 class WHITTEDPARAVIEW_EXPORT vtkPVWhittedView : public vtkPVRenderView
 {
 public:
@@ -72,59 +92,35 @@ public:
 
   ///@{
   /**
-   * Settings of the pass, each forwarded in one line; their meaning, default and range are in the
-   * settings table (vtkWhittedSettings.h). Shadows and SamplesPerPixel replace the OSPRay settings
+   * Settings of the pass (SetX, GetX for each Pass row of the settings table, vtkWhittedSettings.h,
+   * which holds their meaning, default and range), each forwarded in one line. Shadows and SamplesPerPixel replace the OSPRay settings
    * of the same name of a plain render view. InteractiveMaxDepth and InteractiveShadows apply to
    * the frames traced while the camera moves (see vtkWhittedPass::SetInteractive).
    */
-  void SetMaxDepth(int value);
-  int GetMaxDepth();
-  void SetSamplesPerPixel(int value);
-  int GetSamplesPerPixel();
-  void SetAdaptiveSampling(bool value);
-  bool GetAdaptiveSampling();
-  void SetShadows(bool value);
-  bool GetShadows();
-  void SetReflections(bool value);
-  bool GetReflections();
-  void SetRefractions(bool value);
-  bool GetRefractions();
-  void SetFresnel(bool value);
-  bool GetFresnel();
+  VTK_WHITTED_SETTINGS(VTK_WHITTED_VIEW_FORWARDERS)
   void SetShadingErrorForTesting(int value); ///< vtkWhittedPass::SetShadingErrorForTesting
-  void SetContributionThreshold(double value);
-  double GetContributionThreshold();
-  void SetTargetError(double value);
-  double GetTargetError();
-  void SetTimeBudget(double value);
-  double GetTimeBudget();
-  void SetNumberOfThreads(int value);
-  int GetNumberOfThreads();
-  void SetTimeCacheMemory(int value);
-  int GetTimeCacheMemory();
-  void SetInteractiveMaxDepth(int value);
-  int GetInteractiveMaxDepth();
-  void SetInteractiveShadows(bool value);
-  bool GetInteractiveShadows();
-  void SetShowErrorImage(bool value);
-  bool GetShowErrorImage();
-  void SetErrorImageScale(double value);
-  double GetErrorImageScale();
   ///@}
 
   ///@{
   /**
-   * Progressive display and the on-screen error annotation (see class documentation). Defaults
-   * and ranges: vtkWhittedSettings.h.
+   * The view's own settings (the View rows of the settings table, vtkWhittedSettings.h, which
+   * holds their meaning, default and range): GetX for each, SetX clamped to the range for the
+   * numbers; the on/off settings have setters of their own below. The settings:
+   * - Interactive frames (camera being dragged) are traced at the pass's interactive quality and
+   * at 1/f of the resolution, with f = 1..MaximumImageReduction chosen from the measured cost of
+   * earlier frames so that a frame takes about InteractiveFrameTime (wall-clock seconds).
+   * - ProgressiveDisplay, RefinementRoundsPerRender, ShowErrorAnnotation: progressive display
+   * and the on-screen error annotation (see class documentation).
+   * - ReplicateGeometry: parallel rendering: deliver every representation's geometry to every
+   * rank so that each rank traces the full scene (correct shadows, reflections and refractions
+   * across ranks) and split the image between ranks. Off: each rank traces only its own data,
+   * like a raster view (secondary rays miss the other ranks' geometry). Has no effect with a
+   * single rendering process.
    */
+  VTK_WHITTED_SETTINGS(VTK_WHITTED_VIEW_ACCESSORS)
   vtkSetMacro(ProgressiveDisplay, bool);
-  vtkGetMacro(ProgressiveDisplay, bool);
-  vtkSetClampMacro(RefinementRoundsPerRender, int,
-    vtkWhittedSettings::RefinementRoundsPerRender.Minimum,
-    vtkWhittedSettings::RefinementRoundsPerRender.Maximum);
-  vtkGetMacro(RefinementRoundsPerRender, int);
   void SetShowErrorAnnotation(bool value);
-  vtkGetMacro(ShowErrorAnnotation, bool);
+  void SetReplicateGeometry(bool value);
   ///@}
 
   ///@{
@@ -143,33 +139,6 @@ public:
    * interaction starts.
    */
   void SetupInteractor(vtkRenderWindowInteractor*) override;
-
-  ///@{
-  /**
-   * Interactive frames (camera being dragged) are traced at the pass's interactive quality and at
-   * 1/f of the resolution, with f = 1..MaximumImageReduction chosen from the measured cost of
-   * earlier frames so that a frame takes about InteractiveFrameTime (wall-clock seconds). Defaults
-   * and ranges: vtkWhittedSettings.h.
-   */
-  vtkSetClampMacro(InteractiveFrameTime, double, vtkWhittedSettings::InteractiveFrameTime.Minimum,
-    vtkWhittedSettings::InteractiveFrameTime.Maximum);
-  vtkGetMacro(InteractiveFrameTime, double);
-  vtkSetClampMacro(MaximumImageReduction, int, vtkWhittedSettings::MaximumImageReduction.Minimum,
-    vtkWhittedSettings::MaximumImageReduction.Maximum);
-  vtkGetMacro(MaximumImageReduction, int);
-  ///@}
-
-  ///@{
-  /**
-   * Parallel rendering: deliver every representation's geometry to every rank so that each rank
-   * traces the full scene (correct shadows, reflections and refractions across ranks) and split the
-   * image between ranks. Off: each rank traces only its own data, like a raster view (secondary
-   * rays miss the other ranks' geometry). Has no effect with a single rendering process. Default:
-   * vtkWhittedSettings.h.
-   */
-  void SetReplicateGeometry(bool value);
-  vtkGetMacro(ReplicateGeometry, bool);
-  ///@}
 
   /**
    * Level of detail is never used by this view (see class documentation); the threshold is ignored.
@@ -251,12 +220,8 @@ protected:
   vtkNew<vtkAlgorithm> ProgressReporter;
   vtkNew<vtkTextActor> ErrorAnnotation;
 
-  double InteractiveFrameTime = vtkWhittedSettings::InteractiveFrameTime.Default;
-  int MaximumImageReduction = vtkWhittedSettings::MaximumImageReduction.Default;
-  bool ReplicateGeometry = vtkWhittedSettings::ReplicateGeometry.Default;
-  bool ProgressiveDisplay = vtkWhittedSettings::ProgressiveDisplay.Default;
-  int RefinementRoundsPerRender = vtkWhittedSettings::RefinementRoundsPerRender.Default;
-  bool ShowErrorAnnotation = vtkWhittedSettings::ShowErrorAnnotation.Default;
+  // The view's own settings (the View rows of the table), at their defaults
+  VTK_WHITTED_SETTINGS(VTK_WHITTED_VIEW_MEMBERS)
   bool RefinementUnfinished = false;
   std::string ErrorAnnotationText;
   // Progressive display in the GUI: the interactor's one-shot timer that renders again (-1: none)

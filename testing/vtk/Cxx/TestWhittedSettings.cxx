@@ -1,7 +1,8 @@
 // The pass's settings against the settings table (plugin/vtkWhittedSettings.h): every Pass row's
 // default, and its clamps at both ends of the range (setting a value outside the range gives the
-// nearest end, GetXMinValue / GetXMaxValue are the range). The ParaView view and XML are checked
-// against the same table by testing/paraview/test_settings.py.
+// nearest end, GetXMinValue / GetXMaxValue are the range). The XML, the view's sources, the
+// Python-wrapped pass and the README are checked against the same table by
+// testing/settings/check_settings.py, the ParaView view itself by testing/paraview/test_settings.py.
 
 #include "vtkNew.h"
 #include "vtkWhittedPass.h"
