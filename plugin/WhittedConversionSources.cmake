@@ -3,6 +3,7 @@
 # target (testing/fuzz), which compiles these without the pass and the compositor (they need OpenGL).
 set(whitted_conversion_sources
   vtkWhittedSceneConverter.cxx     # the prop walk: what is traced, instances, retiring what is unused
+  vtkWhittedInstanceSlots.cxx      # scene instances and materials, reused across frames
   vtkWhittedGeometryCache.cxx      # converted geometry per (mapper, input or block, options)
   vtkWhittedPolyDataConverter.cxx  # one polydata -> triangles, spheres, tubes
   vtkWhittedGlyphConverter.cxx     # vtkGlyph3DMapper -> one instance per glyph
@@ -13,6 +14,7 @@ set(whitted_conversion_sources
   vtkWhittedWarnings.cxx)          # every warning, once per prop
 set(whitted_conversion_headers
   vtkWhittedSceneConverter.h
+  vtkWhittedInstanceSlots.h
   vtkWhittedGeometryCache.h
   vtkWhittedPolyDataConverter.h
   vtkWhittedGlyphConverter.h

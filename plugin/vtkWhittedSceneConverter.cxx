@@ -3,6 +3,7 @@
 #include "vtkWhittedEnvironment.h"
 #include "vtkWhittedGeometryCache.h"
 #include "vtkWhittedGlyphConverter.h"
+#include "vtkWhittedInstanceSlots.h"
 #include "vtkWhittedLights.h"
 #include "vtkWhittedMaterials.h"
 #include "vtkWhittedMatrix.h"
@@ -48,7 +49,6 @@
 #include <array>
 #include <cmath>
 #include <map>
-#include <tuple>
 #include <unordered_set>
 #include <utility>
 
@@ -228,31 +228,6 @@ vtkWhittedPolyDataConverter::Options GeometryOptions(vtkActor* actor)
   return opts;
 }
 
-// Cache key of an instance: which leaf actor (and which of its occurrences in assemblies), which
-// block, which primitive kind.
-struct InstanceKey
-{
-  vtkProp* Leaf;
-  int Occurrence;
-  int Piece;
-  int Kind;
-  bool operator<(const InstanceKey& o) const
-  {
-    return std::tie(this->Leaf, this->Occurrence, this->Piece, this->Kind) <
-      std::tie(o.Leaf, o.Occurrence, o.Piece, o.Kind);
-  }
-};
-
-struct InstanceSlot
-{
-  uint32_t Instance = 0;
-  uint32_t Material = 0;
-  int32_t BackMaterial = -1; ///< Material slot of the back faces (BackfaceProperty), -1 = none yet.
-  uint32_t Object = 0;
-  Mat4 Matrix{ 1.0 };
-  unsigned long LastFrame = 0;
-};
-
 // A leaf actor found in this frame's props, with its world matrix (null: the actor's own).
 struct Leaf
 {
@@ -302,28 +277,20 @@ struct vtkWhittedSceneConverter::Internals
   unsigned long Frame = 0;
   vtkWhittedTextureCache Textures{ Scene };
   vtkWhittedGeometryCache Geometries{ Scene, Textures };
-  std::map<InstanceKey, InstanceSlot> Instances;
-  std::vector<std::pair<uint32_t, uint32_t>> FreeInstances; // (instance, material)
-  std::vector<int32_t> FreeBackMaterials;                   // back-face material slots
+  vtkWhittedInstanceSlots Slots{ Scene };
   vtkWhittedWarnings Warnings;
   bool LightsOn = true;
   std::map<vtkMapper*, GlyphHelpers> Glyphers;
   std::map<std::pair<vtkProp*, int>, GlyphActor> GlyphActors;
-  std::vector<uint32_t> FreeGlyphInstances;
-  std::vector<uint32_t> FreeGlyphMaterials;
 
   void Clear()
   {
     this->Scene = whitted::Scene();
-    this->FreeBackMaterials.clear();
     this->Textures.Clear();
     this->Geometries.Clear();
-    this->Instances.clear();
-    this->FreeInstances.clear();
+    this->Slots.Clear();
     this->Glyphers.clear();
     this->GlyphActors.clear();
-    this->FreeGlyphInstances.clear();
-    this->FreeGlyphMaterials.clear();
   }
 
   //----------------------------------------------------------------------------
@@ -522,7 +489,7 @@ struct vtkWhittedSceneConverter::Internals
       {
         if (g.Objects[k] >= 0)
         {
-          this->PlaceInstance(InstanceKey{ actor, leaf.Occurrence, static_cast<int>(i), k },
+          this->Slots.Place({ actor, leaf.Occurrence, static_cast<int>(i), k },
             static_cast<uint32_t>(g.Objects[k]), placed, front, hasBack ? &back : nullptr);
         }
       }
@@ -714,7 +681,7 @@ struct vtkWhittedSceneConverter::Internals
       GlyphSource& gs = sources[s];
       if (gs.Material < 0)
       {
-        gs.Material = static_cast<int>(this->AllocateGlyphMaterial());
+        gs.Material = static_cast<int>(this->Slots.AddMaterial());
       }
       for (int k = 0; k < kinds; ++k)
       {
@@ -748,8 +715,7 @@ struct vtkWhittedSceneConverter::Internals
             {
               continue;
             }
-            const uint32_t id = this->GlyphInstance(gs, k, used[s][k]++);
-            this->Scene.setInstanceTransform(id, placed);
+            const uint32_t id = this->GlyphInstance(gs, k, used[s][k]++, placed);
             if (rgba)
             {
               const unsigned char* c = rgba + 4 * point;
@@ -774,50 +740,25 @@ struct vtkWhittedSceneConverter::Internals
         std::vector<uint32_t>& ids = sources[s].Instances[k];
         for (size_t j = used[s][k]; j < ids.size(); ++j)
         {
-          this->Scene.setInstanceVisible(ids[j], false);
-          this->FreeGlyphInstances.push_back(ids[j]);
+          this->Slots.RemoveInstance(ids[j]);
         }
         ids.resize(used[s][k]);
       }
     }
   }
 
-  // Instance j of a glyph source's kind k: the one it had, a freed one, or a new one.
-  uint32_t GlyphInstance(GlyphSource& gs, int k, size_t j)
+  // Instance j of a glyph source's kind k with matrix: the one it had, or a new one.
+  uint32_t GlyphInstance(GlyphSource& gs, int k, size_t j, const Mat4& matrix)
   {
     std::vector<uint32_t>& ids = gs.Instances[k];
     if (j < ids.size())
     {
+      this->Scene.setInstanceTransform(ids[j], matrix);
       return ids[j];
     }
-    const uint32_t object = static_cast<uint32_t>(gs.Objects[k]);
-    const uint32_t material = static_cast<uint32_t>(gs.Material);
-    uint32_t id;
-    if (!this->FreeGlyphInstances.empty())
-    {
-      id = this->FreeGlyphInstances.back();
-      this->FreeGlyphInstances.pop_back();
-      this->Scene.setInstanceObject(id, object);
-      this->Scene.setInstanceMaterial(id, material);
-      this->Scene.setInstanceVisible(id, true);
-    }
-    else
-    {
-      id = this->Scene.addInstance(object, Mat4(1.0), material);
-    }
-    ids.push_back(id);
-    return id;
-  }
-
-  uint32_t AllocateGlyphMaterial()
-  {
-    if (this->FreeGlyphMaterials.empty())
-    {
-      return this->Scene.addMaterial(whitted::Material());
-    }
-    const uint32_t id = this->FreeGlyphMaterials.back();
-    this->FreeGlyphMaterials.pop_back();
-    return id;
+    ids.push_back(this->Slots.AddInstance(
+      static_cast<uint32_t>(gs.Objects[k]), matrix, static_cast<uint32_t>(gs.Material)));
+    return ids.back();
   }
 
   // Hides a glyph source's instances and frees them and its material for reuse.
@@ -827,14 +768,13 @@ struct vtkWhittedSceneConverter::Internals
     {
       for (uint32_t id : ids)
       {
-        this->Scene.setInstanceVisible(id, false);
-        this->FreeGlyphInstances.push_back(id);
+        this->Slots.RemoveInstance(id);
       }
       ids.clear();
     }
     if (gs.Material >= 0)
     {
-      this->FreeGlyphMaterials.push_back(static_cast<uint32_t>(gs.Material));
+      this->Slots.RemoveMaterial(static_cast<uint32_t>(gs.Material));
       gs.Material = -1;
     }
   }
@@ -961,104 +901,6 @@ struct vtkWhittedSceneConverter::Internals
     }
     return bp || cullFront;
   }
-
-
-  //----------------------------------------------------------------------------
-  // The instance of one object for one actor piece: its slot from the last frame (transform and
-  // object updated only if they changed), a freed slot, or a new one.
-  void PlaceInstance(const InstanceKey& key, uint32_t object, const Mat4& matrix,
-    const whitted::Material& material, const whitted::Material* back = nullptr)
-  {
-    auto it = this->Instances.find(key);
-    if (it == this->Instances.end())
-    {
-      InstanceSlot slot;
-      if (!this->FreeInstances.empty())
-      {
-        std::tie(slot.Instance, slot.Material) = this->FreeInstances.back();
-        this->FreeInstances.pop_back();
-        this->Scene.material(slot.Material) = material;
-        this->Scene.setInstanceObject(slot.Instance, object);
-        this->Scene.setInstanceTransform(slot.Instance, matrix);
-        this->Scene.setInstanceMaterial(slot.Instance, slot.Material);
-        this->Scene.setInstanceVisible(slot.Instance, true);
-      }
-      else
-      {
-        slot.Material = this->Scene.addMaterial(material);
-        slot.Instance = this->Scene.addInstance(object, matrix, slot.Material);
-      }
-      slot.Object = object;
-      slot.Matrix = matrix;
-      slot.LastFrame = this->Frame;
-      this->SetBackMaterial(slot, back);
-      this->Instances.emplace(key, slot);
-      return;
-    }
-    InstanceSlot& slot = it->second;
-    slot.LastFrame = this->Frame;
-    if (slot.Object != object)
-    {
-      this->Scene.setInstanceObject(slot.Instance, object);
-      slot.Object = object;
-    }
-    if (slot.Matrix != matrix)
-    {
-      this->Scene.setInstanceTransform(slot.Instance, matrix);
-      slot.Matrix = matrix;
-    }
-    this->Scene.material(slot.Material) = material;
-    this->SetBackMaterial(slot, back);
-  }
-
-  //----------------------------------------------------------------------------
-  // The back-face material of an instance (its actor's BackfaceProperty, or none): a material slot
-  // of its own that the front material names (whitted::Material::backMaterial). Kept with the
-  // instance slot and reused.
-  void SetBackMaterial(InstanceSlot& slot, const whitted::Material* back)
-  {
-    if (!back)
-    {
-      this->Scene.material(slot.Material).backMaterial = -1;
-      return;
-    }
-    if (slot.BackMaterial < 0)
-    {
-      if (!this->FreeBackMaterials.empty())
-      {
-        slot.BackMaterial = this->FreeBackMaterials.back();
-        this->FreeBackMaterials.pop_back();
-      }
-      else
-      {
-        slot.BackMaterial = static_cast<int32_t>(this->Scene.addMaterial(*back));
-      }
-    }
-    this->Scene.material(static_cast<uint32_t>(slot.BackMaterial)) = *back;
-    this->Scene.material(slot.Material).backMaterial = slot.BackMaterial;
-  }
-
-  // Hides the instances this frame did not place; their slots are reused by later ones.
-  void FreeUnusedInstances()
-  {
-    for (auto it = this->Instances.begin(); it != this->Instances.end();)
-    {
-      if (it->second.LastFrame != this->Frame)
-      {
-        this->Scene.setInstanceVisible(it->second.Instance, false);
-        this->FreeInstances.emplace_back(it->second.Instance, it->second.Material);
-        if (it->second.BackMaterial >= 0)
-        {
-          this->FreeBackMaterials.push_back(it->second.BackMaterial);
-        }
-        it = this->Instances.erase(it);
-      }
-      else
-      {
-        ++it;
-      }
-    }
-  }
 };
 
 //------------------------------------------------------------------------------
@@ -1094,6 +936,7 @@ void vtkWhittedSceneConverter::Update(
   ++in.Frame;
   in.Textures.BeginFrame();
   in.Geometries.BeginFrame();
+  in.Slots.BeginFrame();
 
   // Lights
   const vtkWhittedLights::Summary lights = vtkWhittedLights::Convert(ren, in.Scene.lights());
@@ -1136,7 +979,7 @@ void vtkWhittedSceneConverter::Update(
   }
 
   // Retire what this frame did not use
-  in.FreeUnusedInstances();
+  in.Slots.FreeUnused();
   in.FreeUnusedGlyphs();
   in.Geometries.FreeUnused();
   in.Textures.FreeUnused();

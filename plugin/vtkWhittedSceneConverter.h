@@ -16,6 +16,8 @@
  *   in place when they change and freed when no longer used.
  * - vtkWhittedMaterials (vtkProperty + Whitted keys), vtkWhittedLights (vtkLight),
  *   vtkWhittedEnvironment (background, skybox, environment texture): cheap, rebuilt every frame.
+ * - vtkWhittedInstanceSlots: the scene's instances and materials, reused across frames (also
+ *   by the glyphs).
  * - vtkWhittedWarnings: every warning, said once per prop. vtkWhittedMatrix.h: vtkMatrix4x4 ->
  *   whitted::Mat4.
  *
