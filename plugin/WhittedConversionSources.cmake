@@ -6,7 +6,7 @@ set(whitted_conversion_sources
   vtkWhittedInstanceSlots.cxx      # scene instances and materials, reused across frames
   vtkWhittedGeometryCache.cxx      # converted geometry per (mapper, input or block, options)
   vtkWhittedPolyDataConverter.cxx  # one polydata -> triangles, spheres, tubes
-  vtkWhittedGlyphConverter.cxx     # vtkGlyph3DMapper -> one instance per glyph
+  vtkWhittedGlyphPlacement.cxx     # where VTK places each glyph of a vtkGlyph3DMapper
   vtkWhittedTextureCache.cxx       # vtkTexture -> scene textures
   vtkWhittedMaterials.cxx          # vtkProperty + Whitted keys -> material
   vtkWhittedLights.cxx             # vtkLight -> lights
@@ -17,7 +17,7 @@ set(whitted_conversion_headers
   vtkWhittedInstanceSlots.h
   vtkWhittedGeometryCache.h
   vtkWhittedPolyDataConverter.h
-  vtkWhittedGlyphConverter.h
+  vtkWhittedGlyphPlacement.h
   vtkWhittedTextureCache.h
   vtkWhittedMaterials.h
   vtkWhittedLights.h

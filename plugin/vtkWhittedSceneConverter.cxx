@@ -2,7 +2,7 @@
 
 #include "vtkWhittedEnvironment.h"
 #include "vtkWhittedGeometryCache.h"
-#include "vtkWhittedGlyphConverter.h"
+#include "vtkWhittedGlyphPlacement.h"
 #include "vtkWhittedInstanceSlots.h"
 #include "vtkWhittedLights.h"
 #include "vtkWhittedMaterials.h"
@@ -524,7 +524,7 @@ struct vtkWhittedSceneConverter::Internals
 
   //----------------------------------------------------------------------------
   // A glyph actor: each source converted once (cached like any geometry) and each glyph an
-  // instance of its source's objects with the glyph's matrix (vtkWhittedGlyphConverter) and its
+  // instance of its source's objects with the glyph's matrix (vtkWhittedGlyphPlacement) and its
   // colour as the instance colour, so a million glyphs cost instance records, not geometry, and
   // one material per source. Placement is recomputed only when the mapper, its lookup table, the
   // points, the actor's matrix or a source's objects changed. False if OpenGL has to draw it.
@@ -639,7 +639,7 @@ struct vtkWhittedSceneConverter::Internals
     {
       vtkUnsignedCharArray* colors = placementValid
         ? nullptr
-        : vtkWhittedGlyphConverter::MapColors(mapper, helpers.Colors, blocks[b]);
+        : vtkWhittedGlyphPlacement::MapColors(mapper, helpers.Colors, blocks[b]);
       if (!placementValid)
       {
         this->PlaceGlyphs(actor, mapper, blocks[b], matrix, geometries, colors,
@@ -699,8 +699,8 @@ struct vtkWhittedSceneConverter::Internals
       gs.Origin = geometries[s]->Origin;
     }
     const unsigned char* rgba = colors ? colors->GetPointer(0) : nullptr;
-    const vtkWhittedGlyphConverter::Problem problem =
-      vtkWhittedGlyphConverter::ForEachGlyph(mapper, points, numberOfSources,
+    const vtkWhittedGlyphPlacement::Problem problem =
+      vtkWhittedGlyphPlacement::ForEachGlyph(mapper, points, numberOfSources,
         [&](int s, vtkIdType point, const Mat4& glyph)
         {
           GlyphSource& gs = sources[s];
@@ -728,7 +728,7 @@ struct vtkWhittedSceneConverter::Internals
             }
           }
         });
-    if (problem != vtkWhittedGlyphConverter::None)
+    if (problem != vtkWhittedGlyphPlacement::None)
     {
       this->Warnings.WarnGlyphArrays(actor, problem);
     }

@@ -1,5 +1,5 @@
 /**
- * @class   vtkWhittedGlyphConverter
+ * @class   vtkWhittedGlyphPlacement
  * @brief   internal: the glyphs of a vtkGlyph3DMapper as VTK places them (source, matrix, colour)
  *
  * Private to the Whitted module. Stateless; vtkWhittedSceneConverter makes each glyph an instance
@@ -23,8 +23,8 @@
  * @sa vtkWhittedSceneConverter vtkGlyph3DMapper
  */
 
-#ifndef vtkWhittedGlyphConverter_h
-#define vtkWhittedGlyphConverter_h
+#ifndef vtkWhittedGlyphPlacement_h
+#define vtkWhittedGlyphPlacement_h
 
 #include "vtkType.h" // for vtkIdType
 
@@ -37,7 +37,7 @@ class vtkGlyph3DMapper;
 class vtkMapper;
 class vtkUnsignedCharArray;
 
-class vtkWhittedGlyphConverter
+class vtkWhittedGlyphPlacement
 {
 public:
   /// What made the glyphs of a dataset undrawable (then none is placed).
@@ -69,4 +69,4 @@ public:
 };
 
 #endif
-// VTK-HeaderTest-Exclude: vtkWhittedGlyphConverter.h
+// VTK-HeaderTest-Exclude: vtkWhittedGlyphPlacement.h

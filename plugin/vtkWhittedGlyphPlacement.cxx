@@ -1,4 +1,4 @@
-#include "vtkWhittedGlyphConverter.h"
+#include "vtkWhittedGlyphPlacement.h"
 
 #include "vtkBitArray.h"
 #include "vtkDataArray.h"
@@ -78,7 +78,7 @@ vtkQuaterniond Orientation(int mode, const double o[4])
 } // namespace
 
 //------------------------------------------------------------------------------
-vtkWhittedGlyphConverter::Problem vtkWhittedGlyphConverter::ForEachGlyph(vtkGlyph3DMapper* mapper,
+vtkWhittedGlyphPlacement::Problem vtkWhittedGlyphPlacement::ForEachGlyph(vtkGlyph3DMapper* mapper,
   vtkDataSet* points, int numberOfSources,
   const std::function<void(int, vtkIdType, const whitted::Mat4&)>& place)
 {
@@ -196,7 +196,7 @@ vtkWhittedGlyphConverter::Problem vtkWhittedGlyphConverter::ForEachGlyph(vtkGlyp
 }
 
 //------------------------------------------------------------------------------
-vtkUnsignedCharArray* vtkWhittedGlyphConverter::MapColors(
+vtkUnsignedCharArray* vtkWhittedGlyphPlacement::MapColors(
   vtkGlyph3DMapper* mapper, vtkMapper* colorMapper, vtkDataSet* points)
 {
   colorMapper->ShallowCopy(mapper);
