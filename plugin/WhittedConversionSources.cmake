@@ -4,6 +4,7 @@
 set(whitted_conversion_sources
   vtkWhittedSceneConverter.cxx     # the prop walk: what is traced, instances, retiring what is unused
   vtkWhittedInstanceSlots.cxx      # scene instances and materials, reused across frames
+  vtkWhittedActorPieces.cxx        # the polydata an actor draws (blocks, surfaces); plain points / lines
   vtkWhittedGeometryCache.cxx      # converted geometry per (mapper, input or block, options)
   vtkWhittedPolyDataConverter.cxx  # one polydata -> triangles, spheres, tubes
   vtkWhittedGlyphPlacement.cxx     # where VTK places each glyph of a vtkGlyph3DMapper
@@ -15,6 +16,7 @@ set(whitted_conversion_sources
 set(whitted_conversion_headers
   vtkWhittedSceneConverter.h
   vtkWhittedInstanceSlots.h
+  vtkWhittedActorPieces.h
   vtkWhittedGeometryCache.h
   vtkWhittedPolyDataConverter.h
   vtkWhittedGlyphPlacement.h

@@ -1,5 +1,6 @@
 #include "vtkWhittedSceneConverter.h"
 
+#include "vtkWhittedActorPieces.h"
 #include "vtkWhittedEnvironment.h"
 #include "vtkWhittedGeometryCache.h"
 #include "vtkWhittedGlyphPlacement.h"
@@ -54,62 +55,9 @@
 
 namespace
 {
+using vtkWhittedActorPieces::Piece;
 using whitted::Mat4;
 using whitted::Vec3;
-
-//------------------------------------------------------------------------------
-// A piece of an actor: its polydata, or one visible block of a composite input with its
-// display-attribute overrides.
-struct Piece
-{
-  vtkPolyData* Poly = nullptr;
-  vtkWhittedMaterials::BlockAttributes Block;
-};
-
-void CollectBlocks(vtkDataObject* obj, vtkCompositeDataDisplayAttributes* attrs, bool visible,
-  const vtkWhittedMaterials::BlockAttributes& inherited, std::vector<Piece>& out)
-{
-  if (!obj)
-  {
-    return;
-  }
-  vtkWhittedMaterials::BlockAttributes block = inherited;
-  if (attrs)
-  {
-    if (attrs->HasBlockVisibility(obj))
-    {
-      visible = attrs->GetBlockVisibility(obj);
-    }
-    if (attrs->HasBlockColor(obj))
-    {
-      block.HasColor = true;
-      attrs->GetBlockColor(obj, block.Color);
-    }
-    if (attrs->HasBlockOpacity(obj))
-    {
-      block.HasOpacity = true;
-      block.Opacity = attrs->GetBlockOpacity(obj);
-    }
-  }
-  if (auto* tree = vtkDataObjectTree::SafeDownCast(obj))
-  {
-    auto iter = vtk::TakeSmartPointer(tree->NewTreeIterator());
-    iter->VisitOnlyLeavesOff();
-    iter->TraverseSubTreeOff();
-    iter->SkipEmptyNodesOn();
-    for (iter->InitTraversal(); !iter->IsDoneWithTraversal(); iter->GoToNextItem())
-    {
-      CollectBlocks(iter->GetCurrentDataObject(), attrs, visible, block, out);
-    }
-  }
-  else if (auto* poly = vtkPolyData::SafeDownCast(obj))
-  {
-    if (visible)
-    {
-      out.push_back(Piece{ poly, block });
-    }
-  }
-}
 
 //------------------------------------------------------------------------------
 // Whether the tracer draws this actor (else VTK's OpenGL path does).
@@ -140,53 +88,6 @@ bool IsTraceable(vtkActor* actor)
   // Point Gaussian with ScaleFactor 0 draws plain points
   auto* gaussian = vtkPointGaussianMapper::SafeDownCast(mapper);
   return !gaussian || gaussian->GetScaleFactor() != 0.0;
-}
-
-// Surface actors whose data has only vertices / lines are drawn by OpenGL unless they ask for
-// spheres / tubes (Point Gaussian splats are spheres).
-bool OnlyPlainPointsOrLines(
-  const std::vector<Piece>& pieces, vtkProperty* p, vtkMapper* mapper = nullptr)
-{
-  if (p->GetRepresentation() != VTK_SURFACE || vtkPointGaussianMapper::SafeDownCast(mapper))
-  {
-    return false;
-  }
-  vtkIdType verts = 0, lines = 0, surfaces = 0;
-  for (const Piece& piece : pieces)
-  {
-    verts += piece.Poly->GetNumberOfVerts();
-    lines += piece.Poly->GetNumberOfLines();
-    surfaces += piece.Poly->GetNumberOfPolys() + piece.Poly->GetNumberOfStrips();
-  }
-  if (surfaces > 0)
-  {
-    return false;
-  }
-  return (lines > 0 && !p->GetRenderLinesAsTubes()) ||
-    (lines == 0 && verts > 0 && !p->GetRenderPointsAsSpheres());
-}
-
-// Sphere and tube radii as VTK's OSPRay pass chooses them: size * (data diagonal / 1000). The
-// diagonal is that of the finite points of all pieces (never the mapper's cell bounds: those read
-// points through connectivity that may be invalid).
-double RadiusScale(const std::vector<Piece>& pieces)
-{
-  vtkBoundingBox box;
-  for (const Piece& piece : pieces)
-  {
-    vtkPoints* points = piece.Poly->GetPoints();
-    for (vtkIdType i = 0, n = points ? points->GetNumberOfPoints() : 0; i < n; ++i)
-    {
-      double x[3];
-      points->GetPoint(i, x);
-      if (std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]))
-      {
-        box.AddPoint(x);
-      }
-    }
-  }
-  const double length = box.IsValid() ? box.GetDiagonalLength() : 0.0;
-  return (length > 0.0 && std::isfinite(length) ? length : 1.0) / 1000.0;
 }
 
 // The settings that change the primitives of a geometry: the property's, its radius keys, and a
@@ -346,44 +247,6 @@ struct vtkWhittedSceneConverter::Internals
   }
 
   //----------------------------------------------------------------------------
-  // The polydata pieces an actor draws, after the same update as vtkPolyDataMapper::Render /
-  // vtkDataSetMapper::Render; false if it has no input to draw.
-  bool CollectPieces(vtkActor* actor, std::vector<Piece>& pieces)
-  {
-    vtkMapper* mapper = actor->GetMapper();
-    if (!mapper->GetStatic())
-    {
-      mapper->Update();
-    }
-    vtkDataObject* input = mapper->GetInputDataObject(0, 0);
-    if (!input)
-    {
-      return false;
-    }
-    if (vtkDataSetMapper::SafeDownCast(mapper) && !vtkPolyData::SafeDownCast(input))
-    {
-      // vtkDataSetMapper draws the outer surface of other datasets
-      auto* dataset = vtkDataSet::SafeDownCast(input);
-      if (!dataset)
-      {
-        return false;
-      }
-      input = this->Geometries.GetSurface(mapper, dataset);
-    }
-    if (auto* poly = vtkPolyData::SafeDownCast(input))
-    {
-      pieces.push_back(Piece{ poly, {} });
-    }
-    else
-    {
-      auto* cpdm = vtkCompositePolyDataMapper2::SafeDownCast(mapper);
-      CollectBlocks(
-        input, cpdm ? cpdm->GetCompositeDataDisplayAttributes() : nullptr, true, {}, pieces);
-    }
-    return true;
-  }
-
-  //----------------------------------------------------------------------------
   // The actor's world matrix, false (with a warning) if the tracer cannot use it.
   bool TraceableMatrix(const Leaf& leaf, Mat4& matrix)
   {
@@ -443,11 +306,11 @@ struct vtkWhittedSceneConverter::Internals
     }
     vtkProperty* p = actor->GetProperty();
     std::vector<Piece> pieces;
-    if (!this->CollectPieces(actor, pieces))
+    if (!vtkWhittedActorPieces::Collect(actor, this->Geometries, pieces))
     {
       return true; // nothing to draw
     }
-    if (OnlyPlainPointsOrLines(pieces, p, mapper))
+    if (vtkWhittedActorPieces::OnlyPlainPointsOrLines(pieces, p, mapper))
     {
       return false;
     }
@@ -461,7 +324,7 @@ struct vtkWhittedSceneConverter::Internals
     double radiusScale = -1.0;
     auto radiusScaleFn = [&pieces, &radiusScale]()
     {
-      radiusScale = radiusScale < 0.0 ? RadiusScale(pieces) : radiusScale;
+      radiusScale = radiusScale < 0.0 ? vtkWhittedActorPieces::RadiusScale(pieces) : radiusScale;
       return radiusScale;
     };
     const int actorTexture = actor->GetTexture() ? this->Textures.Get(actor->GetTexture()) : -1;
@@ -560,7 +423,7 @@ struct vtkWhittedSceneConverter::Internals
     }
     for (vtkPolyData* source : sources)
     {
-      if (OnlyPlainPointsOrLines({ Piece{ source, {} } }, p))
+      if (vtkWhittedActorPieces::OnlyPlainPointsOrLines({ Piece{ source, {} } }, p))
       {
         return false;
       }
@@ -612,7 +475,7 @@ struct vtkWhittedSceneConverter::Internals
     {
       const std::vector<Piece> piece{ Piece{ sources[s], {} } };
       const vtkWhittedGeometryCache::Geometry& g = this->Geometries.Get(helpers.Shape, sources[s],
-        static_cast<int>(s), opts, [&piece]() { return RadiusScale(piece); }, converted);
+        static_cast<int>(s), opts, [&piece]() { return vtkWhittedActorPieces::RadiusScale(piece); }, converted);
       this->Warnings.WarnProblems(actor, p, g.Issues, numberOfSources > 1 ? int(s) : -1);
       geometries.push_back(&g);
       for (size_t b = 0; b < blocks.size(); ++b)
