@@ -7,6 +7,7 @@ set(whitted_conversion_sources
   vtkWhittedActorPieces.cxx        # the polydata an actor draws (blocks, surfaces); plain points / lines
   vtkWhittedGeometryCache.cxx      # converted geometry per (mapper, input or block, options)
   vtkWhittedPolyDataConverter.cxx  # one polydata -> triangles, spheres, tubes
+  vtkWhittedGlyphConverter.cxx     # vtkGlyph3DMapper -> one instance per glyph
   vtkWhittedGlyphPlacement.cxx     # where VTK places each glyph of a vtkGlyph3DMapper
   vtkWhittedTextureCache.cxx       # vtkTexture -> scene textures
   vtkWhittedMaterials.cxx          # vtkProperty + Whitted keys -> material
@@ -19,6 +20,7 @@ set(whitted_conversion_headers
   vtkWhittedActorPieces.h
   vtkWhittedGeometryCache.h
   vtkWhittedPolyDataConverter.h
+  vtkWhittedGlyphConverter.h
   vtkWhittedGlyphPlacement.h
   vtkWhittedTextureCache.h
   vtkWhittedMaterials.h

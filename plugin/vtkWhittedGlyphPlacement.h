@@ -2,7 +2,7 @@
  * @class   vtkWhittedGlyphPlacement
  * @brief   internal: the glyphs of a vtkGlyph3DMapper as VTK places them (source, matrix, colour)
  *
- * Private to the Whitted module. Stateless; vtkWhittedSceneConverter makes each glyph an instance
+ * Private to the Whitted module. Stateless; vtkWhittedGlyphConverter makes each glyph an instance
  * of its source's converted objects (so a million glyphs cost instance records, not copies of the
  * geometry) and decides when to call it (the mapper, its lookup table or the points changed). The
  * rules are those of VTK 9.1's vtkOpenGLGlyph3DMapper::RebuildStructures, so the traced glyphs
@@ -20,7 +20,7 @@
  *   visibility, mode, array and range) with alpha = the table's alpha; VTK's OpenGL glyph mapper
  *   multiplies the actor opacity in a second time, the tracer does not (see plugin/README.md).
  *
- * @sa vtkWhittedSceneConverter vtkGlyph3DMapper
+ * @sa vtkWhittedGlyphConverter vtkGlyph3DMapper
  */
 
 #ifndef vtkWhittedGlyphPlacement_h

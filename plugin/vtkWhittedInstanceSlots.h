@@ -12,11 +12,11 @@
  *   different, a back material. Place() puts it every frame (object and transform are set only
  *   when they changed); FreeUnused() hides those not placed since BeginFrame(). A freed slot keeps
  *   its instance and material together for the next actor piece.
- * - Glyphs: many instances sharing one material, taken with
+ * - Glyphs (vtkWhittedGlyphConverter): many instances sharing one material, taken with
  *   AddInstance() / AddMaterial() and given back with RemoveInstance() / RemoveMaterial(); they
  *   are reused by glyphs only.
  *
- * @sa vtkWhittedSceneConverter
+ * @sa vtkWhittedSceneConverter vtkWhittedGlyphConverter
  */
 
 #ifndef vtkWhittedInstanceSlots_h

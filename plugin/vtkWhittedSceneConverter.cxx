@@ -3,7 +3,7 @@
 #include "vtkWhittedActorPieces.h"
 #include "vtkWhittedEnvironment.h"
 #include "vtkWhittedGeometryCache.h"
-#include "vtkWhittedGlyphPlacement.h"
+#include "vtkWhittedGlyphConverter.h"
 #include "vtkWhittedInstanceSlots.h"
 #include "vtkWhittedLights.h"
 #include "vtkWhittedMaterials.h"
@@ -16,14 +16,6 @@
 #include "vtkAssembly.h"
 #include "vtkAssemblyNode.h"
 #include "vtkAssemblyPath.h"
-#include "vtkBoundingBox.h"
-#include "vtkCellArray.h"
-#include "vtkCompositeDataDisplayAttributes.h"
-#include "vtkCompositeDataIterator.h"
-#include "vtkCompositeDataSet.h"
-#include "vtkCompositePolyDataMapper2.h"
-#include "vtkDataObjectTree.h"
-#include "vtkDataObjectTreeIterator.h"
 #include "vtkDataSetMapper.h"
 #include "vtkGlyph3DMapper.h"
 #include "vtkInformation.h"
@@ -33,21 +25,15 @@
 #include "vtkMatrix4x4.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointGaussianMapper.h"
-#include "vtkPoints.h"
-#include "vtkPolyData.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkPropCollection.h"
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
-#include "vtkScalarsToColors.h"
 #include "vtkSkybox.h"
-#include "vtkTexture.h"
-#include "vtkUnsignedCharArray.h"
 
 #include "scene/scene.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <map>
 #include <unordered_set>
@@ -137,52 +123,18 @@ struct Leaf
   int Occurrence;
 };
 
-// Helper mappers of one glyph mapper: its sources are converted without scalar colours (VTK colours
-// a glyph by its point, never by its source's scalars) and its colours are mapped by a copy of its
-// colour settings; the line VTK draws when the mapper has no source.
-struct GlyphHelpers
-{
-  vtkSmartPointer<vtkPolyDataMapper> Shape;
-  vtkSmartPointer<vtkPolyDataMapper> Colors;
-  vtkSmartPointer<vtkPolyData> DefaultSource;
-  unsigned long LastFrame = 0;
-};
-
-// The glyphs of one source in one dataset block of a glyph actor: per primitive kind of the
-// source's geometry, its object and one instance per glyph; one material for all of them.
-struct GlyphSource
-{
-  int Objects[vtkWhittedGeometryCache::NumberOfKinds] = { -1, -1, -1 };
-  Vec3 Origin{ 0.0 };
-  std::vector<uint32_t> Instances[vtkWhittedGeometryCache::NumberOfKinds];
-  int Material = -1;
-};
-
-// A glyph actor (one occurrence of a leaf): its glyph sources (block-major) and what their
-// placement was computed from, so an unchanged actor costs one material update per source.
-struct GlyphActor
-{
-  std::vector<GlyphSource> Sources;
-  vtkMTimeType Stamp = 0;
-  Mat4 Matrix{ 1.0 };
-  bool Colored = false; ///< The glyphs carry colours mapped from scalars.
-  unsigned long LastFrame = 0;
-};
-
 } // namespace
 
 //------------------------------------------------------------------------------
 struct vtkWhittedSceneConverter::Internals
 {
   whitted::Scene Scene;
-  unsigned long Frame = 0;
   vtkWhittedTextureCache Textures{ Scene };
   vtkWhittedGeometryCache Geometries{ Scene, Textures };
   vtkWhittedInstanceSlots Slots{ Scene };
   vtkWhittedWarnings Warnings;
+  vtkWhittedGlyphConverter Glyphs{ Scene, Geometries, Textures, Slots, Warnings };
   bool LightsOn = true;
-  std::map<vtkMapper*, GlyphHelpers> Glyphers;
-  std::map<std::pair<vtkProp*, int>, GlyphActor> GlyphActors;
 
   void Clear()
   {
@@ -190,8 +142,7 @@ struct vtkWhittedSceneConverter::Internals
     this->Textures.Clear();
     this->Geometries.Clear();
     this->Slots.Clear();
-    this->Glyphers.clear();
-    this->GlyphActors.clear();
+    this->Glyphs.Clear();
   }
 
   //----------------------------------------------------------------------------
@@ -361,309 +312,24 @@ struct vtkWhittedSceneConverter::Internals
   }
 
   //----------------------------------------------------------------------------
-  // The helper mappers of a glyph mapper (created on first use).
-  GlyphHelpers& Glypher(vtkGlyph3DMapper* mapper)
-  {
-    GlyphHelpers& h = this->Glyphers[mapper];
-    h.LastFrame = this->Frame;
-    if (!h.Shape)
-    {
-      h.Shape = vtkSmartPointer<vtkPolyDataMapper>::New();
-      h.Shape->ScalarVisibilityOff();
-      h.Colors = vtkSmartPointer<vtkPolyDataMapper>::New();
-      // vtkOpenGLGlyph3DMapper's default glyph: a line from (0,0,0) to (1,0,0)
-      h.DefaultSource = vtkSmartPointer<vtkPolyData>::New();
-      vtkNew<vtkPoints> points;
-      points->InsertNextPoint(0.0, 0.0, 0.0);
-      points->InsertNextPoint(1.0, 0.0, 0.0);
-      vtkNew<vtkCellArray> lines;
-      const vtkIdType ids[2] = { 0, 1 };
-      lines->InsertNextCell(2, ids);
-      h.DefaultSource->SetPoints(points);
-      h.DefaultSource->SetLines(lines);
-    }
-    return h;
-  }
-
-  //----------------------------------------------------------------------------
-  // A glyph actor: each source converted once (cached like any geometry) and each glyph an
-  // instance of its source's objects with the glyph's matrix (vtkWhittedGlyphPlacement) and its
-  // colour as the instance colour, so a million glyphs cost instance records, not geometry, and
-  // one material per source. Placement is recomputed only when the mapper, its lookup table, the
-  // points, the actor's matrix or a source's objects changed. False if OpenGL has to draw it.
+  // A glyph actor (vtkWhittedGlyphConverter); false if OpenGL has to draw it.
   bool ConvertGlyphs(const Leaf& leaf, vtkGlyph3DMapper* mapper, int& converted)
   {
-    vtkActor* actor = leaf.Actor;
-    vtkProperty* p = actor->GetProperty();
-    if (mapper->GetUseSourceTableTree())
+    vtkWhittedGlyphConverter::Input input;
+    const vtkWhittedGlyphConverter::Verdict verdict =
+      this->Glyphs.Collect(leaf.Actor, mapper, input);
+    if (verdict != vtkWhittedGlyphConverter::Trace)
     {
-      this->Warnings.Warn(actor, vtkWhittedWarnings::GlyphSourceTableTree);
-      return false;
-    }
-    if (!mapper->GetStatic())
-    {
-      mapper->Update();
-    }
-    GlyphHelpers& helpers = this->Glypher(mapper);
-
-    // The sources (VTK's default line when there is none)
-    std::vector<vtkPolyData*> sources;
-    for (int i = 0, n = mapper->GetNumberOfInputConnections(1); i < n; ++i)
-    {
-      vtkPolyData* source = mapper->GetSource(i);
-      if (!source)
-      {
-        return true; // VTK draws nothing when a source is missing
-      }
-      sources.push_back(source);
-    }
-    if (sources.empty())
-    {
-      sources.push_back(helpers.DefaultSource);
-    }
-    for (vtkPolyData* source : sources)
-    {
-      if (vtkWhittedActorPieces::OnlyPlainPointsOrLines({ Piece{ source, {} } }, p))
-      {
-        return false;
-      }
-    }
-
-    // The datasets whose points carry glyphs: the input, or the leaves of a composite input
-    std::vector<vtkDataSet*> blocks;
-    vtkDataObject* input = mapper->GetInputDataObject(0, 0);
-    if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
-    {
-      auto iter = vtk::TakeSmartPointer(composite->NewIterator());
-      for (iter->InitTraversal(); !iter->IsDoneWithTraversal(); iter->GoToNextItem())
-      {
-        if (auto* ds = vtkDataSet::SafeDownCast(iter->GetCurrentDataObject()))
-        {
-          blocks.push_back(ds);
-        }
-      }
-    }
-    else if (auto* ds = vtkDataSet::SafeDownCast(input))
-    {
-      blocks.push_back(ds);
-    }
-    if (blocks.empty() || this->DrawsNothing(actor))
-    {
-      return true;
+      return verdict == vtkWhittedGlyphConverter::Nothing;
     }
     Mat4 matrix;
-    if (!this->TraceableMatrix(leaf, matrix))
+    if (this->DrawsNothing(leaf.Actor) || !this->TraceableMatrix(leaf, matrix))
     {
       return true;
     }
-
-    // Each source's geometry, and whether any changed since the placement was computed
-    GlyphActor& glyphs = this->GlyphActors[{ actor, leaf.Occurrence }];
-    glyphs.LastFrame = this->Frame;
-    const size_t numberOfSources = sources.size();
-    const size_t slots = blocks.size() * numberOfSources;
-    bool placementValid = glyphs.Sources.size() == slots;
-    for (size_t k = slots; k < glyphs.Sources.size(); ++k)
-    {
-      this->FreeGlyphSource(glyphs.Sources[k]);
-    }
-    glyphs.Sources.resize(slots);
-    vtkWhittedPolyDataConverter::Options opts = GeometryOptions(actor);
-    const int actorTexture = actor->GetTexture() ? this->Textures.Get(actor->GetTexture()) : -1;
-    std::vector<const vtkWhittedGeometryCache::Geometry*> geometries;
-    for (size_t s = 0; s < numberOfSources; ++s)
-    {
-      const std::vector<Piece> piece{ Piece{ sources[s], {} } };
-      const vtkWhittedGeometryCache::Geometry& g = this->Geometries.Get(helpers.Shape, sources[s],
-        static_cast<int>(s), opts, [&piece]() { return vtkWhittedActorPieces::RadiusScale(piece); }, converted);
-      this->Warnings.WarnProblems(actor, p, g.Issues, numberOfSources > 1 ? int(s) : -1);
-      geometries.push_back(&g);
-      for (size_t b = 0; b < blocks.size(); ++b)
-      {
-        const GlyphSource& gs = glyphs.Sources[b * numberOfSources + s];
-        placementValid = placementValid && gs.Origin == g.Origin &&
-          std::equal(gs.Objects, gs.Objects + vtkWhittedGeometryCache::NumberOfKinds, g.Objects);
-      }
-    }
-
-    // Colours: mapped per point by the mapper's settings (one instance colour per glyph)
-    vtkMTimeType stamp = mapper->GetMTime();
-    if (vtkScalarsToColors* lut = mapper->GetLookupTable())
-    {
-      stamp = std::max(stamp, lut->GetMTime());
-    }
-    for (vtkDataSet* ds : blocks)
-    {
-      stamp = std::max(stamp, ds->GetMTime());
-    }
-    placementValid = placementValid && glyphs.Stamp == stamp && glyphs.Matrix == matrix;
-    bool colored = false;
-    for (size_t b = 0; b < blocks.size(); ++b)
-    {
-      vtkUnsignedCharArray* colors = placementValid
-        ? nullptr
-        : vtkWhittedGlyphPlacement::MapColors(mapper, helpers.Colors, blocks[b]);
-      if (!placementValid)
-      {
-        this->PlaceGlyphs(actor, mapper, blocks[b], matrix, geometries, colors,
-          &glyphs.Sources[b * numberOfSources]);
-      }
-      colored = colored || colors;
-    }
-    if (!placementValid)
-    {
-      glyphs.Stamp = stamp;
-      glyphs.Matrix = matrix;
-      glyphs.Colored = colored;
-    }
-
-    // One material per source and block, updated every frame (cheap)
-    for (size_t k = 0; k < slots; ++k)
-    {
-      GlyphSource& gs = glyphs.Sources[k];
-      const vtkWhittedGeometryCache::Geometry& g = *geometries[k % numberOfSources];
-      const whitted::Material material = vtkWhittedMaterials::Convert(actor, {}, glyphs.Colored,
-        actorTexture >= 0 && g.TCoords ? actorTexture : -1, this->LightsOn, this->Warnings);
-      this->Scene.material(static_cast<uint32_t>(gs.Material)) = material;
-    }
+    this->Glyphs.Convert(leaf.Actor, leaf.Occurrence, input, matrix, GeometryOptions(leaf.Actor),
+      this->LightsOn, converted);
     return true;
-  }
-
-  //----------------------------------------------------------------------------
-  // Places the glyphs of one dataset block: instance j of a source's object is its j-th glyph
-  // (instances reused in place, new ones from the freed pool, surplus ones hidden and freed).
-  void PlaceGlyphs(vtkActor* actor, vtkGlyph3DMapper* mapper, vtkDataSet* points,
-    const Mat4& matrix, const std::vector<const vtkWhittedGeometryCache::Geometry*>& geometries,
-    vtkUnsignedCharArray* colors, GlyphSource* sources)
-  {
-    const int numberOfSources = static_cast<int>(geometries.size());
-    constexpr int kinds = vtkWhittedGeometryCache::NumberOfKinds;
-    std::vector<std::array<size_t, kinds>> used(geometries.size());
-    for (int s = 0; s < numberOfSources; ++s)
-    {
-      GlyphSource& gs = sources[s];
-      if (gs.Material < 0)
-      {
-        gs.Material = static_cast<int>(this->Slots.AddMaterial());
-      }
-      for (int k = 0; k < kinds; ++k)
-      {
-        used[s][k] = 0;
-        // A source whose object changed: its reused instances take the new one
-        if (gs.Objects[k] != geometries[s]->Objects[k] && geometries[s]->Objects[k] >= 0)
-        {
-          for (uint32_t id : gs.Instances[k])
-          {
-            this->Scene.setInstanceObject(id, static_cast<uint32_t>(geometries[s]->Objects[k]));
-          }
-        }
-        gs.Objects[k] = geometries[s]->Objects[k];
-      }
-      gs.Origin = geometries[s]->Origin;
-    }
-    const unsigned char* rgba = colors ? colors->GetPointer(0) : nullptr;
-    const vtkWhittedGlyphPlacement::Problem problem =
-      vtkWhittedGlyphPlacement::ForEachGlyph(mapper, points, numberOfSources,
-        [&](int s, vtkIdType point, const Mat4& glyph)
-        {
-          GlyphSource& gs = sources[s];
-          Mat4 placed = matrix * glyph;
-          if (gs.Origin != Vec3(0.0))
-          {
-            placed[3] = placed * whitted::Vec4(gs.Origin, 1.0); // * translate(Origin)
-          }
-          for (int k = 0; k < kinds; ++k)
-          {
-            if (gs.Objects[k] < 0)
-            {
-              continue;
-            }
-            const uint32_t id = this->GlyphInstance(gs, k, used[s][k]++, placed);
-            if (rgba)
-            {
-              const unsigned char* c = rgba + 4 * point;
-              this->Scene.setInstanceColor(
-                id, whitted::Color4(c[0], c[1], c[2], c[3]) * (1.0f / 255.0f));
-            }
-            else
-            {
-              this->Scene.clearInstanceColor(id);
-            }
-          }
-        });
-    if (problem != vtkWhittedGlyphPlacement::None)
-    {
-      this->Warnings.WarnGlyphArrays(actor, problem);
-    }
-    // Surplus instances of the last placement: hidden, their ids reused later
-    for (int s = 0; s < numberOfSources; ++s)
-    {
-      for (int k = 0; k < kinds; ++k)
-      {
-        std::vector<uint32_t>& ids = sources[s].Instances[k];
-        for (size_t j = used[s][k]; j < ids.size(); ++j)
-        {
-          this->Slots.RemoveInstance(ids[j]);
-        }
-        ids.resize(used[s][k]);
-      }
-    }
-  }
-
-  // Instance j of a glyph source's kind k with matrix: the one it had, or a new one.
-  uint32_t GlyphInstance(GlyphSource& gs, int k, size_t j, const Mat4& matrix)
-  {
-    std::vector<uint32_t>& ids = gs.Instances[k];
-    if (j < ids.size())
-    {
-      this->Scene.setInstanceTransform(ids[j], matrix);
-      return ids[j];
-    }
-    ids.push_back(this->Slots.AddInstance(
-      static_cast<uint32_t>(gs.Objects[k]), matrix, static_cast<uint32_t>(gs.Material)));
-    return ids.back();
-  }
-
-  // Hides a glyph source's instances and frees them and its material for reuse.
-  void FreeGlyphSource(GlyphSource& gs)
-  {
-    for (std::vector<uint32_t>& ids : gs.Instances)
-    {
-      for (uint32_t id : ids)
-      {
-        this->Slots.RemoveInstance(id);
-      }
-      ids.clear();
-    }
-    if (gs.Material >= 0)
-    {
-      this->Slots.RemoveMaterial(static_cast<uint32_t>(gs.Material));
-      gs.Material = -1;
-    }
-  }
-
-  // Frees the glyph actors and helper mappers this frame did not use.
-  void FreeUnusedGlyphs()
-  {
-    for (auto it = this->GlyphActors.begin(); it != this->GlyphActors.end();)
-    {
-      if (it->second.LastFrame != this->Frame)
-      {
-        for (GlyphSource& gs : it->second.Sources)
-        {
-          this->FreeGlyphSource(gs);
-        }
-        it = this->GlyphActors.erase(it);
-      }
-      else
-      {
-        ++it;
-      }
-    }
-    for (auto it = this->Glyphers.begin(); it != this->Glyphers.end();)
-    {
-      it = it->second.LastFrame != this->Frame ? this->Glyphers.erase(it) : std::next(it);
-    }
   }
 
   //----------------------------------------------------------------------------
@@ -796,10 +462,10 @@ void vtkWhittedSceneConverter::Update(
   Internals& in = *this->Impl;
   in.Warnings.SetOwner(owner);
   result = Result();
-  ++in.Frame;
   in.Textures.BeginFrame();
   in.Geometries.BeginFrame();
   in.Slots.BeginFrame();
+  in.Glyphs.BeginFrame();
 
   // Lights
   const vtkWhittedLights::Summary lights = vtkWhittedLights::Convert(ren, in.Scene.lights());
@@ -843,7 +509,7 @@ void vtkWhittedSceneConverter::Update(
 
   // Retire what this frame did not use
   in.Slots.FreeUnused();
-  in.FreeUnusedGlyphs();
+  in.Glyphs.FreeUnused();
   in.Geometries.FreeUnused();
   in.Textures.FreeUnused();
   const vtkWhittedGeometryCache::TimeCacheCounts kept = in.Geometries.GetTimeCacheCounts();

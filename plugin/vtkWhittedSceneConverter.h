@@ -18,8 +18,10 @@
  *   in place when they change and freed when no longer used.
  * - vtkWhittedMaterials (vtkProperty + Whitted keys), vtkWhittedLights (vtkLight),
  *   vtkWhittedEnvironment (background, skybox, environment texture): cheap, rebuilt every frame.
- * - vtkWhittedInstanceSlots: the scene's instances and materials, reused across frames (also
- *   by the glyphs).
+ * - vtkWhittedGlyphConverter: a vtkGlyph3DMapper actor, each glyph an instance of its source
+ *   (where it stands: vtkWhittedGlyphPlacement).
+ * - vtkWhittedInstanceSlots: the scene's instances and materials, reused across frames (actor
+ *   pieces and glyphs).
  * - vtkWhittedWarnings: every warning, said once per prop. vtkWhittedMatrix.h: vtkMatrix4x4 ->
  *   whitted::Mat4.
  *
