@@ -7,6 +7,10 @@ set(whitted_conversion_sources
   vtkWhittedActorPieces.cxx        # the polydata an actor draws (blocks, surfaces); plain points / lines
   vtkWhittedGeometryCache.cxx      # converted geometry per (mapper, input or block, options)
   vtkWhittedPolyDataConverter.cxx  # one polydata -> triangles, spheres, tubes
+  vtkWhittedPolyDataTriangles.cxx  #   polygons and strips -> triangle mesh (normals, coordinates)
+  vtkWhittedPolyDataSpheres.cxx    #   vertices (or every point) -> spheres
+  vtkWhittedPolyDataTubes.cxx      #   lines (and wireframe edges) -> tubes
+  vtkWhittedPolyDataColors.cxx     #   the mapper's colours per point or cell
   vtkWhittedGlyphConverter.cxx     # vtkGlyph3DMapper -> one instance per glyph
   vtkWhittedGlyphPlacement.cxx     # where VTK places each glyph of a vtkGlyph3DMapper
   vtkWhittedTextureCache.cxx       # vtkTexture -> scene textures
@@ -20,6 +24,7 @@ set(whitted_conversion_headers
   vtkWhittedActorPieces.h
   vtkWhittedGeometryCache.h
   vtkWhittedPolyDataConverter.h
+  vtkWhittedPolyDataPrimitives.h
   vtkWhittedGlyphConverter.h
   vtkWhittedGlyphPlacement.h
   vtkWhittedTextureCache.h
