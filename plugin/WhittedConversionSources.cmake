@@ -3,9 +3,16 @@
 # target (testing/fuzz), which compiles these without the pass and the compositor (they need OpenGL).
 set(whitted_conversion_sources
   vtkWhittedSceneConverter.cxx     # the prop walk: what is traced, instances, retiring what is unused
+  vtkWhittedInstanceSlots.cxx      # scene instances and materials, reused across frames
+  vtkWhittedActorPieces.cxx        # the polydata an actor draws (blocks, surfaces); plain points / lines
   vtkWhittedGeometryCache.cxx      # converted geometry per (mapper, input or block, options)
   vtkWhittedPolyDataConverter.cxx  # one polydata -> triangles, spheres, tubes
+  vtkWhittedPolyDataTriangles.cxx  #   polygons and strips -> triangle mesh (normals, coordinates)
+  vtkWhittedPolyDataSpheres.cxx    #   vertices (or every point) -> spheres
+  vtkWhittedPolyDataTubes.cxx      #   lines (and wireframe edges) -> tubes
+  vtkWhittedPolyDataColors.cxx     #   the mapper's colours per point or cell
   vtkWhittedGlyphConverter.cxx     # vtkGlyph3DMapper -> one instance per glyph
+  vtkWhittedGlyphPlacement.cxx     # where VTK places each glyph of a vtkGlyph3DMapper
   vtkWhittedTextureCache.cxx       # vtkTexture -> scene textures
   vtkWhittedMaterials.cxx          # vtkProperty + Whitted keys -> material
   vtkWhittedLights.cxx             # vtkLight -> lights
@@ -13,9 +20,13 @@ set(whitted_conversion_sources
   vtkWhittedWarnings.cxx)          # every warning, once per prop
 set(whitted_conversion_headers
   vtkWhittedSceneConverter.h
+  vtkWhittedInstanceSlots.h
+  vtkWhittedActorPieces.h
   vtkWhittedGeometryCache.h
   vtkWhittedPolyDataConverter.h
+  vtkWhittedPolyDataPrimitives.h
   vtkWhittedGlyphConverter.h
+  vtkWhittedGlyphPlacement.h
   vtkWhittedTextureCache.h
   vtkWhittedMaterials.h
   vtkWhittedLights.h

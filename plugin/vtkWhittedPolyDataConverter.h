@@ -27,6 +27,10 @@
  * ignored, spheres / tubes without a positive radius are left out; non-finite points, normals and
  * colours are left to the core, which skips or sanitises them. Everything found is counted in
  * Primitives::Issues.
+ *
+ * The implementation is split by primitive (vtkWhittedPolyDataTriangles.cxx,
+ * vtkWhittedPolyDataSpheres.cxx, vtkWhittedPolyDataTubes.cxx) and colours
+ * (vtkWhittedPolyDataColors.cxx), which share vtkWhittedPolyDataPrimitives.h.
  */
 
 #ifndef vtkWhittedPolyDataConverter_h

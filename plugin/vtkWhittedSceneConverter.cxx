@@ -1,8 +1,10 @@
 #include "vtkWhittedSceneConverter.h"
 
+#include "vtkWhittedActorPieces.h"
 #include "vtkWhittedEnvironment.h"
 #include "vtkWhittedGeometryCache.h"
 #include "vtkWhittedGlyphConverter.h"
+#include "vtkWhittedInstanceSlots.h"
 #include "vtkWhittedLights.h"
 #include "vtkWhittedMaterials.h"
 #include "vtkWhittedMatrix.h"
@@ -14,14 +16,6 @@
 #include "vtkAssembly.h"
 #include "vtkAssemblyNode.h"
 #include "vtkAssemblyPath.h"
-#include "vtkBoundingBox.h"
-#include "vtkCellArray.h"
-#include "vtkCompositeDataDisplayAttributes.h"
-#include "vtkCompositeDataIterator.h"
-#include "vtkCompositeDataSet.h"
-#include "vtkCompositePolyDataMapper2.h"
-#include "vtkDataObjectTree.h"
-#include "vtkDataObjectTreeIterator.h"
 #include "vtkDataSetMapper.h"
 #include "vtkGlyph3DMapper.h"
 #include "vtkInformation.h"
@@ -31,85 +25,25 @@
 #include "vtkMatrix4x4.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointGaussianMapper.h"
-#include "vtkPoints.h"
-#include "vtkPolyData.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkPropCollection.h"
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
-#include "vtkScalarsToColors.h"
 #include "vtkSkybox.h"
-#include "vtkTexture.h"
-#include "vtkUnsignedCharArray.h"
 
 #include "scene/scene.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <map>
-#include <tuple>
 #include <unordered_set>
 #include <utility>
 
 namespace
 {
+using vtkWhittedActorPieces::Piece;
 using whitted::Mat4;
 using whitted::Vec3;
-
-//------------------------------------------------------------------------------
-// A piece of an actor: its polydata, or one visible block of a composite input with its
-// display-attribute overrides.
-struct Piece
-{
-  vtkPolyData* Poly = nullptr;
-  vtkWhittedMaterials::BlockAttributes Block;
-};
-
-void CollectBlocks(vtkDataObject* obj, vtkCompositeDataDisplayAttributes* attrs, bool visible,
-  const vtkWhittedMaterials::BlockAttributes& inherited, std::vector<Piece>& out)
-{
-  if (!obj)
-  {
-    return;
-  }
-  vtkWhittedMaterials::BlockAttributes block = inherited;
-  if (attrs)
-  {
-    if (attrs->HasBlockVisibility(obj))
-    {
-      visible = attrs->GetBlockVisibility(obj);
-    }
-    if (attrs->HasBlockColor(obj))
-    {
-      block.HasColor = true;
-      attrs->GetBlockColor(obj, block.Color);
-    }
-    if (attrs->HasBlockOpacity(obj))
-    {
-      block.HasOpacity = true;
-      block.Opacity = attrs->GetBlockOpacity(obj);
-    }
-  }
-  if (auto* tree = vtkDataObjectTree::SafeDownCast(obj))
-  {
-    auto iter = vtk::TakeSmartPointer(tree->NewTreeIterator());
-    iter->VisitOnlyLeavesOff();
-    iter->TraverseSubTreeOff();
-    iter->SkipEmptyNodesOn();
-    for (iter->InitTraversal(); !iter->IsDoneWithTraversal(); iter->GoToNextItem())
-    {
-      CollectBlocks(iter->GetCurrentDataObject(), attrs, visible, block, out);
-    }
-  }
-  else if (auto* poly = vtkPolyData::SafeDownCast(obj))
-  {
-    if (visible)
-    {
-      out.push_back(Piece{ poly, block });
-    }
-  }
-}
 
 //------------------------------------------------------------------------------
 // Whether the tracer draws this actor (else VTK's OpenGL path does).
@@ -140,53 +74,6 @@ bool IsTraceable(vtkActor* actor)
   // Point Gaussian with ScaleFactor 0 draws plain points
   auto* gaussian = vtkPointGaussianMapper::SafeDownCast(mapper);
   return !gaussian || gaussian->GetScaleFactor() != 0.0;
-}
-
-// Surface actors whose data has only vertices / lines are drawn by OpenGL unless they ask for
-// spheres / tubes (Point Gaussian splats are spheres).
-bool OnlyPlainPointsOrLines(
-  const std::vector<Piece>& pieces, vtkProperty* p, vtkMapper* mapper = nullptr)
-{
-  if (p->GetRepresentation() != VTK_SURFACE || vtkPointGaussianMapper::SafeDownCast(mapper))
-  {
-    return false;
-  }
-  vtkIdType verts = 0, lines = 0, surfaces = 0;
-  for (const Piece& piece : pieces)
-  {
-    verts += piece.Poly->GetNumberOfVerts();
-    lines += piece.Poly->GetNumberOfLines();
-    surfaces += piece.Poly->GetNumberOfPolys() + piece.Poly->GetNumberOfStrips();
-  }
-  if (surfaces > 0)
-  {
-    return false;
-  }
-  return (lines > 0 && !p->GetRenderLinesAsTubes()) ||
-    (lines == 0 && verts > 0 && !p->GetRenderPointsAsSpheres());
-}
-
-// Sphere and tube radii as VTK's OSPRay pass chooses them: size * (data diagonal / 1000). The
-// diagonal is that of the finite points of all pieces (never the mapper's cell bounds: those read
-// points through connectivity that may be invalid).
-double RadiusScale(const std::vector<Piece>& pieces)
-{
-  vtkBoundingBox box;
-  for (const Piece& piece : pieces)
-  {
-    vtkPoints* points = piece.Poly->GetPoints();
-    for (vtkIdType i = 0, n = points ? points->GetNumberOfPoints() : 0; i < n; ++i)
-    {
-      double x[3];
-      points->GetPoint(i, x);
-      if (std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]))
-      {
-        box.AddPoint(x);
-      }
-    }
-  }
-  const double length = box.IsValid() ? box.GetDiagonalLength() : 0.0;
-  return (length > 0.0 && std::isfinite(length) ? length : 1.0) / 1000.0;
 }
 
 // The settings that change the primitives of a geometry: the property's, its radius keys, and a
@@ -228,31 +115,6 @@ vtkWhittedPolyDataConverter::Options GeometryOptions(vtkActor* actor)
   return opts;
 }
 
-// Cache key of an instance: which leaf actor (and which of its occurrences in assemblies), which
-// block, which primitive kind.
-struct InstanceKey
-{
-  vtkProp* Leaf;
-  int Occurrence;
-  int Piece;
-  int Kind;
-  bool operator<(const InstanceKey& o) const
-  {
-    return std::tie(this->Leaf, this->Occurrence, this->Piece, this->Kind) <
-      std::tie(o.Leaf, o.Occurrence, o.Piece, o.Kind);
-  }
-};
-
-struct InstanceSlot
-{
-  uint32_t Instance = 0;
-  uint32_t Material = 0;
-  int32_t BackMaterial = -1; ///< Material slot of the back faces (BackfaceProperty), -1 = none yet.
-  uint32_t Object = 0;
-  Mat4 Matrix{ 1.0 };
-  unsigned long LastFrame = 0;
-};
-
 // A leaf actor found in this frame's props, with its world matrix (null: the actor's own).
 struct Leaf
 {
@@ -261,69 +123,26 @@ struct Leaf
   int Occurrence;
 };
 
-// Helper mappers of one glyph mapper: its sources are converted without scalar colours (VTK colours
-// a glyph by its point, never by its source's scalars) and its colours are mapped by a copy of its
-// colour settings; the line VTK draws when the mapper has no source.
-struct GlyphHelpers
-{
-  vtkSmartPointer<vtkPolyDataMapper> Shape;
-  vtkSmartPointer<vtkPolyDataMapper> Colors;
-  vtkSmartPointer<vtkPolyData> DefaultSource;
-  unsigned long LastFrame = 0;
-};
-
-// The glyphs of one source in one dataset block of a glyph actor: per primitive kind of the
-// source's geometry, its object and one instance per glyph; one material for all of them.
-struct GlyphSource
-{
-  int Objects[vtkWhittedGeometryCache::NumberOfKinds] = { -1, -1, -1 };
-  Vec3 Origin{ 0.0 };
-  std::vector<uint32_t> Instances[vtkWhittedGeometryCache::NumberOfKinds];
-  int Material = -1;
-};
-
-// A glyph actor (one occurrence of a leaf): its glyph sources (block-major) and what their
-// placement was computed from, so an unchanged actor costs one material update per source.
-struct GlyphActor
-{
-  std::vector<GlyphSource> Sources;
-  vtkMTimeType Stamp = 0;
-  Mat4 Matrix{ 1.0 };
-  bool Colored = false; ///< The glyphs carry colours mapped from scalars.
-  unsigned long LastFrame = 0;
-};
-
 } // namespace
 
 //------------------------------------------------------------------------------
 struct vtkWhittedSceneConverter::Internals
 {
   whitted::Scene Scene;
-  unsigned long Frame = 0;
   vtkWhittedTextureCache Textures{ Scene };
   vtkWhittedGeometryCache Geometries{ Scene, Textures };
-  std::map<InstanceKey, InstanceSlot> Instances;
-  std::vector<std::pair<uint32_t, uint32_t>> FreeInstances; // (instance, material)
-  std::vector<int32_t> FreeBackMaterials;                   // back-face material slots
+  vtkWhittedInstanceSlots Slots{ Scene };
   vtkWhittedWarnings Warnings;
+  vtkWhittedGlyphConverter Glyphs{ Scene, Geometries, Textures, Slots, Warnings };
   bool LightsOn = true;
-  std::map<vtkMapper*, GlyphHelpers> Glyphers;
-  std::map<std::pair<vtkProp*, int>, GlyphActor> GlyphActors;
-  std::vector<uint32_t> FreeGlyphInstances;
-  std::vector<uint32_t> FreeGlyphMaterials;
 
   void Clear()
   {
     this->Scene = whitted::Scene();
-    this->FreeBackMaterials.clear();
     this->Textures.Clear();
     this->Geometries.Clear();
-    this->Instances.clear();
-    this->FreeInstances.clear();
-    this->Glyphers.clear();
-    this->GlyphActors.clear();
-    this->FreeGlyphInstances.clear();
-    this->FreeGlyphMaterials.clear();
+    this->Slots.Clear();
+    this->Glyphs.Clear();
   }
 
   //----------------------------------------------------------------------------
@@ -376,44 +195,6 @@ struct vtkWhittedSceneConverter::Internals
       }
     }
     return leaves;
-  }
-
-  //----------------------------------------------------------------------------
-  // The polydata pieces an actor draws, after the same update as vtkPolyDataMapper::Render /
-  // vtkDataSetMapper::Render; false if it has no input to draw.
-  bool CollectPieces(vtkActor* actor, std::vector<Piece>& pieces)
-  {
-    vtkMapper* mapper = actor->GetMapper();
-    if (!mapper->GetStatic())
-    {
-      mapper->Update();
-    }
-    vtkDataObject* input = mapper->GetInputDataObject(0, 0);
-    if (!input)
-    {
-      return false;
-    }
-    if (vtkDataSetMapper::SafeDownCast(mapper) && !vtkPolyData::SafeDownCast(input))
-    {
-      // vtkDataSetMapper draws the outer surface of other datasets
-      auto* dataset = vtkDataSet::SafeDownCast(input);
-      if (!dataset)
-      {
-        return false;
-      }
-      input = this->Geometries.GetSurface(mapper, dataset);
-    }
-    if (auto* poly = vtkPolyData::SafeDownCast(input))
-    {
-      pieces.push_back(Piece{ poly, {} });
-    }
-    else
-    {
-      auto* cpdm = vtkCompositePolyDataMapper2::SafeDownCast(mapper);
-      CollectBlocks(
-        input, cpdm ? cpdm->GetCompositeDataDisplayAttributes() : nullptr, true, {}, pieces);
-    }
-    return true;
   }
 
   //----------------------------------------------------------------------------
@@ -476,11 +257,11 @@ struct vtkWhittedSceneConverter::Internals
     }
     vtkProperty* p = actor->GetProperty();
     std::vector<Piece> pieces;
-    if (!this->CollectPieces(actor, pieces))
+    if (!vtkWhittedActorPieces::Collect(actor, this->Geometries, pieces))
     {
       return true; // nothing to draw
     }
-    if (OnlyPlainPointsOrLines(pieces, p, mapper))
+    if (vtkWhittedActorPieces::OnlyPlainPointsOrLines(pieces, p, mapper))
     {
       return false;
     }
@@ -494,7 +275,7 @@ struct vtkWhittedSceneConverter::Internals
     double radiusScale = -1.0;
     auto radiusScaleFn = [&pieces, &radiusScale]()
     {
-      radiusScale = radiusScale < 0.0 ? RadiusScale(pieces) : radiusScale;
+      radiusScale = radiusScale < 0.0 ? vtkWhittedActorPieces::RadiusScale(pieces) : radiusScale;
       return radiusScale;
     };
     const int actorTexture = actor->GetTexture() ? this->Textures.Get(actor->GetTexture()) : -1;
@@ -522,7 +303,7 @@ struct vtkWhittedSceneConverter::Internals
       {
         if (g.Objects[k] >= 0)
         {
-          this->PlaceInstance(InstanceKey{ actor, leaf.Occurrence, static_cast<int>(i), k },
+          this->Slots.Place({ actor, leaf.Occurrence, static_cast<int>(i), k },
             static_cast<uint32_t>(g.Objects[k]), placed, front, hasBack ? &back : nullptr);
         }
       }
@@ -531,336 +312,24 @@ struct vtkWhittedSceneConverter::Internals
   }
 
   //----------------------------------------------------------------------------
-  // The helper mappers of a glyph mapper (created on first use).
-  GlyphHelpers& Glypher(vtkGlyph3DMapper* mapper)
-  {
-    GlyphHelpers& h = this->Glyphers[mapper];
-    h.LastFrame = this->Frame;
-    if (!h.Shape)
-    {
-      h.Shape = vtkSmartPointer<vtkPolyDataMapper>::New();
-      h.Shape->ScalarVisibilityOff();
-      h.Colors = vtkSmartPointer<vtkPolyDataMapper>::New();
-      // vtkOpenGLGlyph3DMapper's default glyph: a line from (0,0,0) to (1,0,0)
-      h.DefaultSource = vtkSmartPointer<vtkPolyData>::New();
-      vtkNew<vtkPoints> points;
-      points->InsertNextPoint(0.0, 0.0, 0.0);
-      points->InsertNextPoint(1.0, 0.0, 0.0);
-      vtkNew<vtkCellArray> lines;
-      const vtkIdType ids[2] = { 0, 1 };
-      lines->InsertNextCell(2, ids);
-      h.DefaultSource->SetPoints(points);
-      h.DefaultSource->SetLines(lines);
-    }
-    return h;
-  }
-
-  //----------------------------------------------------------------------------
-  // A glyph actor: each source converted once (cached like any geometry) and each glyph an
-  // instance of its source's objects with the glyph's matrix (vtkWhittedGlyphConverter) and its
-  // colour as the instance colour, so a million glyphs cost instance records, not geometry, and
-  // one material per source. Placement is recomputed only when the mapper, its lookup table, the
-  // points, the actor's matrix or a source's objects changed. False if OpenGL has to draw it.
+  // A glyph actor (vtkWhittedGlyphConverter); false if OpenGL has to draw it.
   bool ConvertGlyphs(const Leaf& leaf, vtkGlyph3DMapper* mapper, int& converted)
   {
-    vtkActor* actor = leaf.Actor;
-    vtkProperty* p = actor->GetProperty();
-    if (mapper->GetUseSourceTableTree())
+    vtkWhittedGlyphConverter::Input input;
+    const vtkWhittedGlyphConverter::Verdict verdict =
+      this->Glyphs.Collect(leaf.Actor, mapper, input);
+    if (verdict != vtkWhittedGlyphConverter::Trace)
     {
-      this->Warnings.Warn(actor, vtkWhittedWarnings::GlyphSourceTableTree);
-      return false;
-    }
-    if (!mapper->GetStatic())
-    {
-      mapper->Update();
-    }
-    GlyphHelpers& helpers = this->Glypher(mapper);
-
-    // The sources (VTK's default line when there is none)
-    std::vector<vtkPolyData*> sources;
-    for (int i = 0, n = mapper->GetNumberOfInputConnections(1); i < n; ++i)
-    {
-      vtkPolyData* source = mapper->GetSource(i);
-      if (!source)
-      {
-        return true; // VTK draws nothing when a source is missing
-      }
-      sources.push_back(source);
-    }
-    if (sources.empty())
-    {
-      sources.push_back(helpers.DefaultSource);
-    }
-    for (vtkPolyData* source : sources)
-    {
-      if (OnlyPlainPointsOrLines({ Piece{ source, {} } }, p))
-      {
-        return false;
-      }
-    }
-
-    // The datasets whose points carry glyphs: the input, or the leaves of a composite input
-    std::vector<vtkDataSet*> blocks;
-    vtkDataObject* input = mapper->GetInputDataObject(0, 0);
-    if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
-    {
-      auto iter = vtk::TakeSmartPointer(composite->NewIterator());
-      for (iter->InitTraversal(); !iter->IsDoneWithTraversal(); iter->GoToNextItem())
-      {
-        if (auto* ds = vtkDataSet::SafeDownCast(iter->GetCurrentDataObject()))
-        {
-          blocks.push_back(ds);
-        }
-      }
-    }
-    else if (auto* ds = vtkDataSet::SafeDownCast(input))
-    {
-      blocks.push_back(ds);
-    }
-    if (blocks.empty() || this->DrawsNothing(actor))
-    {
-      return true;
+      return verdict == vtkWhittedGlyphConverter::Nothing;
     }
     Mat4 matrix;
-    if (!this->TraceableMatrix(leaf, matrix))
+    if (this->DrawsNothing(leaf.Actor) || !this->TraceableMatrix(leaf, matrix))
     {
       return true;
     }
-
-    // Each source's geometry, and whether any changed since the placement was computed
-    GlyphActor& glyphs = this->GlyphActors[{ actor, leaf.Occurrence }];
-    glyphs.LastFrame = this->Frame;
-    const size_t numberOfSources = sources.size();
-    const size_t slots = blocks.size() * numberOfSources;
-    bool placementValid = glyphs.Sources.size() == slots;
-    for (size_t k = slots; k < glyphs.Sources.size(); ++k)
-    {
-      this->FreeGlyphSource(glyphs.Sources[k]);
-    }
-    glyphs.Sources.resize(slots);
-    vtkWhittedPolyDataConverter::Options opts = GeometryOptions(actor);
-    const int actorTexture = actor->GetTexture() ? this->Textures.Get(actor->GetTexture()) : -1;
-    std::vector<const vtkWhittedGeometryCache::Geometry*> geometries;
-    for (size_t s = 0; s < numberOfSources; ++s)
-    {
-      const std::vector<Piece> piece{ Piece{ sources[s], {} } };
-      const vtkWhittedGeometryCache::Geometry& g = this->Geometries.Get(helpers.Shape, sources[s],
-        static_cast<int>(s), opts, [&piece]() { return RadiusScale(piece); }, converted);
-      this->Warnings.WarnProblems(actor, p, g.Issues, numberOfSources > 1 ? int(s) : -1);
-      geometries.push_back(&g);
-      for (size_t b = 0; b < blocks.size(); ++b)
-      {
-        const GlyphSource& gs = glyphs.Sources[b * numberOfSources + s];
-        placementValid = placementValid && gs.Origin == g.Origin &&
-          std::equal(gs.Objects, gs.Objects + vtkWhittedGeometryCache::NumberOfKinds, g.Objects);
-      }
-    }
-
-    // Colours: mapped per point by the mapper's settings (one instance colour per glyph)
-    vtkMTimeType stamp = mapper->GetMTime();
-    if (vtkScalarsToColors* lut = mapper->GetLookupTable())
-    {
-      stamp = std::max(stamp, lut->GetMTime());
-    }
-    for (vtkDataSet* ds : blocks)
-    {
-      stamp = std::max(stamp, ds->GetMTime());
-    }
-    placementValid = placementValid && glyphs.Stamp == stamp && glyphs.Matrix == matrix;
-    bool colored = false;
-    for (size_t b = 0; b < blocks.size(); ++b)
-    {
-      vtkUnsignedCharArray* colors = placementValid
-        ? nullptr
-        : vtkWhittedGlyphConverter::MapColors(mapper, helpers.Colors, blocks[b]);
-      if (!placementValid)
-      {
-        this->PlaceGlyphs(actor, mapper, blocks[b], matrix, geometries, colors,
-          &glyphs.Sources[b * numberOfSources]);
-      }
-      colored = colored || colors;
-    }
-    if (!placementValid)
-    {
-      glyphs.Stamp = stamp;
-      glyphs.Matrix = matrix;
-      glyphs.Colored = colored;
-    }
-
-    // One material per source and block, updated every frame (cheap)
-    for (size_t k = 0; k < slots; ++k)
-    {
-      GlyphSource& gs = glyphs.Sources[k];
-      const vtkWhittedGeometryCache::Geometry& g = *geometries[k % numberOfSources];
-      const whitted::Material material = vtkWhittedMaterials::Convert(actor, {}, glyphs.Colored,
-        actorTexture >= 0 && g.TCoords ? actorTexture : -1, this->LightsOn, this->Warnings);
-      this->Scene.material(static_cast<uint32_t>(gs.Material)) = material;
-    }
+    this->Glyphs.Convert(leaf.Actor, leaf.Occurrence, input, matrix, GeometryOptions(leaf.Actor),
+      this->LightsOn, converted);
     return true;
-  }
-
-  //----------------------------------------------------------------------------
-  // Places the glyphs of one dataset block: instance j of a source's object is its j-th glyph
-  // (instances reused in place, new ones from the freed pool, surplus ones hidden and freed).
-  void PlaceGlyphs(vtkActor* actor, vtkGlyph3DMapper* mapper, vtkDataSet* points,
-    const Mat4& matrix, const std::vector<const vtkWhittedGeometryCache::Geometry*>& geometries,
-    vtkUnsignedCharArray* colors, GlyphSource* sources)
-  {
-    const int numberOfSources = static_cast<int>(geometries.size());
-    constexpr int kinds = vtkWhittedGeometryCache::NumberOfKinds;
-    std::vector<std::array<size_t, kinds>> used(geometries.size());
-    for (int s = 0; s < numberOfSources; ++s)
-    {
-      GlyphSource& gs = sources[s];
-      if (gs.Material < 0)
-      {
-        gs.Material = static_cast<int>(this->AllocateGlyphMaterial());
-      }
-      for (int k = 0; k < kinds; ++k)
-      {
-        used[s][k] = 0;
-        // A source whose object changed: its reused instances take the new one
-        if (gs.Objects[k] != geometries[s]->Objects[k] && geometries[s]->Objects[k] >= 0)
-        {
-          for (uint32_t id : gs.Instances[k])
-          {
-            this->Scene.setInstanceObject(id, static_cast<uint32_t>(geometries[s]->Objects[k]));
-          }
-        }
-        gs.Objects[k] = geometries[s]->Objects[k];
-      }
-      gs.Origin = geometries[s]->Origin;
-    }
-    const unsigned char* rgba = colors ? colors->GetPointer(0) : nullptr;
-    const vtkWhittedGlyphConverter::Problem problem =
-      vtkWhittedGlyphConverter::ForEachGlyph(mapper, points, numberOfSources,
-        [&](int s, vtkIdType point, const Mat4& glyph)
-        {
-          GlyphSource& gs = sources[s];
-          Mat4 placed = matrix * glyph;
-          if (gs.Origin != Vec3(0.0))
-          {
-            placed[3] = placed * whitted::Vec4(gs.Origin, 1.0); // * translate(Origin)
-          }
-          for (int k = 0; k < kinds; ++k)
-          {
-            if (gs.Objects[k] < 0)
-            {
-              continue;
-            }
-            const uint32_t id = this->GlyphInstance(gs, k, used[s][k]++);
-            this->Scene.setInstanceTransform(id, placed);
-            if (rgba)
-            {
-              const unsigned char* c = rgba + 4 * point;
-              this->Scene.setInstanceColor(
-                id, whitted::Color4(c[0], c[1], c[2], c[3]) * (1.0f / 255.0f));
-            }
-            else
-            {
-              this->Scene.clearInstanceColor(id);
-            }
-          }
-        });
-    if (problem != vtkWhittedGlyphConverter::None)
-    {
-      this->Warnings.WarnGlyphArrays(actor, problem);
-    }
-    // Surplus instances of the last placement: hidden, their ids reused later
-    for (int s = 0; s < numberOfSources; ++s)
-    {
-      for (int k = 0; k < kinds; ++k)
-      {
-        std::vector<uint32_t>& ids = sources[s].Instances[k];
-        for (size_t j = used[s][k]; j < ids.size(); ++j)
-        {
-          this->Scene.setInstanceVisible(ids[j], false);
-          this->FreeGlyphInstances.push_back(ids[j]);
-        }
-        ids.resize(used[s][k]);
-      }
-    }
-  }
-
-  // Instance j of a glyph source's kind k: the one it had, a freed one, or a new one.
-  uint32_t GlyphInstance(GlyphSource& gs, int k, size_t j)
-  {
-    std::vector<uint32_t>& ids = gs.Instances[k];
-    if (j < ids.size())
-    {
-      return ids[j];
-    }
-    const uint32_t object = static_cast<uint32_t>(gs.Objects[k]);
-    const uint32_t material = static_cast<uint32_t>(gs.Material);
-    uint32_t id;
-    if (!this->FreeGlyphInstances.empty())
-    {
-      id = this->FreeGlyphInstances.back();
-      this->FreeGlyphInstances.pop_back();
-      this->Scene.setInstanceObject(id, object);
-      this->Scene.setInstanceMaterial(id, material);
-      this->Scene.setInstanceVisible(id, true);
-    }
-    else
-    {
-      id = this->Scene.addInstance(object, Mat4(1.0), material);
-    }
-    ids.push_back(id);
-    return id;
-  }
-
-  uint32_t AllocateGlyphMaterial()
-  {
-    if (this->FreeGlyphMaterials.empty())
-    {
-      return this->Scene.addMaterial(whitted::Material());
-    }
-    const uint32_t id = this->FreeGlyphMaterials.back();
-    this->FreeGlyphMaterials.pop_back();
-    return id;
-  }
-
-  // Hides a glyph source's instances and frees them and its material for reuse.
-  void FreeGlyphSource(GlyphSource& gs)
-  {
-    for (std::vector<uint32_t>& ids : gs.Instances)
-    {
-      for (uint32_t id : ids)
-      {
-        this->Scene.setInstanceVisible(id, false);
-        this->FreeGlyphInstances.push_back(id);
-      }
-      ids.clear();
-    }
-    if (gs.Material >= 0)
-    {
-      this->FreeGlyphMaterials.push_back(static_cast<uint32_t>(gs.Material));
-      gs.Material = -1;
-    }
-  }
-
-  // Frees the glyph actors and helper mappers this frame did not use.
-  void FreeUnusedGlyphs()
-  {
-    for (auto it = this->GlyphActors.begin(); it != this->GlyphActors.end();)
-    {
-      if (it->second.LastFrame != this->Frame)
-      {
-        for (GlyphSource& gs : it->second.Sources)
-        {
-          this->FreeGlyphSource(gs);
-        }
-        it = this->GlyphActors.erase(it);
-      }
-      else
-      {
-        ++it;
-      }
-    }
-    for (auto it = this->Glyphers.begin(); it != this->Glyphers.end();)
-    {
-      it = it->second.LastFrame != this->Frame ? this->Glyphers.erase(it) : std::next(it);
-    }
   }
 
   //----------------------------------------------------------------------------
@@ -961,104 +430,6 @@ struct vtkWhittedSceneConverter::Internals
     }
     return bp || cullFront;
   }
-
-
-  //----------------------------------------------------------------------------
-  // The instance of one object for one actor piece: its slot from the last frame (transform and
-  // object updated only if they changed), a freed slot, or a new one.
-  void PlaceInstance(const InstanceKey& key, uint32_t object, const Mat4& matrix,
-    const whitted::Material& material, const whitted::Material* back = nullptr)
-  {
-    auto it = this->Instances.find(key);
-    if (it == this->Instances.end())
-    {
-      InstanceSlot slot;
-      if (!this->FreeInstances.empty())
-      {
-        std::tie(slot.Instance, slot.Material) = this->FreeInstances.back();
-        this->FreeInstances.pop_back();
-        this->Scene.material(slot.Material) = material;
-        this->Scene.setInstanceObject(slot.Instance, object);
-        this->Scene.setInstanceTransform(slot.Instance, matrix);
-        this->Scene.setInstanceMaterial(slot.Instance, slot.Material);
-        this->Scene.setInstanceVisible(slot.Instance, true);
-      }
-      else
-      {
-        slot.Material = this->Scene.addMaterial(material);
-        slot.Instance = this->Scene.addInstance(object, matrix, slot.Material);
-      }
-      slot.Object = object;
-      slot.Matrix = matrix;
-      slot.LastFrame = this->Frame;
-      this->SetBackMaterial(slot, back);
-      this->Instances.emplace(key, slot);
-      return;
-    }
-    InstanceSlot& slot = it->second;
-    slot.LastFrame = this->Frame;
-    if (slot.Object != object)
-    {
-      this->Scene.setInstanceObject(slot.Instance, object);
-      slot.Object = object;
-    }
-    if (slot.Matrix != matrix)
-    {
-      this->Scene.setInstanceTransform(slot.Instance, matrix);
-      slot.Matrix = matrix;
-    }
-    this->Scene.material(slot.Material) = material;
-    this->SetBackMaterial(slot, back);
-  }
-
-  //----------------------------------------------------------------------------
-  // The back-face material of an instance (its actor's BackfaceProperty, or none): a material slot
-  // of its own that the front material names (whitted::Material::backMaterial). Kept with the
-  // instance slot and reused.
-  void SetBackMaterial(InstanceSlot& slot, const whitted::Material* back)
-  {
-    if (!back)
-    {
-      this->Scene.material(slot.Material).backMaterial = -1;
-      return;
-    }
-    if (slot.BackMaterial < 0)
-    {
-      if (!this->FreeBackMaterials.empty())
-      {
-        slot.BackMaterial = this->FreeBackMaterials.back();
-        this->FreeBackMaterials.pop_back();
-      }
-      else
-      {
-        slot.BackMaterial = static_cast<int32_t>(this->Scene.addMaterial(*back));
-      }
-    }
-    this->Scene.material(static_cast<uint32_t>(slot.BackMaterial)) = *back;
-    this->Scene.material(slot.Material).backMaterial = slot.BackMaterial;
-  }
-
-  // Hides the instances this frame did not place; their slots are reused by later ones.
-  void FreeUnusedInstances()
-  {
-    for (auto it = this->Instances.begin(); it != this->Instances.end();)
-    {
-      if (it->second.LastFrame != this->Frame)
-      {
-        this->Scene.setInstanceVisible(it->second.Instance, false);
-        this->FreeInstances.emplace_back(it->second.Instance, it->second.Material);
-        if (it->second.BackMaterial >= 0)
-        {
-          this->FreeBackMaterials.push_back(it->second.BackMaterial);
-        }
-        it = this->Instances.erase(it);
-      }
-      else
-      {
-        ++it;
-      }
-    }
-  }
 };
 
 //------------------------------------------------------------------------------
@@ -1091,9 +462,10 @@ void vtkWhittedSceneConverter::Update(
   Internals& in = *this->Impl;
   in.Warnings.SetOwner(owner);
   result = Result();
-  ++in.Frame;
   in.Textures.BeginFrame();
   in.Geometries.BeginFrame();
+  in.Slots.BeginFrame();
+  in.Glyphs.BeginFrame();
 
   // Lights
   const vtkWhittedLights::Summary lights = vtkWhittedLights::Convert(ren, in.Scene.lights());
@@ -1136,8 +508,8 @@ void vtkWhittedSceneConverter::Update(
   }
 
   // Retire what this frame did not use
-  in.FreeUnusedInstances();
-  in.FreeUnusedGlyphs();
+  in.Slots.FreeUnused();
+  in.Glyphs.FreeUnused();
   in.Geometries.FreeUnused();
   in.Textures.FreeUnused();
   const vtkWhittedGeometryCache::TimeCacheCounts kept = in.Geometries.GetTimeCacheCounts();

@@ -9,6 +9,8 @@
  * the blocks of a composite input) and which are left to OpenGL, and the instances that place
  * converted geometry with each actor's matrix. Each VTK concept has its own file pair:
  *
+ * - vtkWhittedActorPieces: the polydata an actor draws (its input, a dataset's surface, the
+ *   visible blocks of a composite input), and whether they are only plain points or lines.
  * - vtkWhittedGeometryCache: geometry per (mapper, input or block, geometry-relevant property
  *   settings), converted by vtkWhittedPolyDataConverter only when the mapper, its lookup table or
  *   the input changed (MTime). Actors that share a mapper share one object (instancing).
@@ -16,6 +18,10 @@
  *   in place when they change and freed when no longer used.
  * - vtkWhittedMaterials (vtkProperty + Whitted keys), vtkWhittedLights (vtkLight),
  *   vtkWhittedEnvironment (background, skybox, environment texture): cheap, rebuilt every frame.
+ * - vtkWhittedGlyphConverter: a vtkGlyph3DMapper actor, each glyph an instance of its source
+ *   (where it stands: vtkWhittedGlyphPlacement).
+ * - vtkWhittedInstanceSlots: the scene's instances and materials, reused across frames (actor
+ *   pieces and glyphs).
  * - vtkWhittedWarnings: every warning, said once per prop. vtkWhittedMatrix.h: vtkMatrix4x4 ->
  *   whitted::Mat4.
  *

@@ -1,6 +1,6 @@
 #include "vtkWhittedWarnings.h"
 
-#include "vtkWhittedGlyphConverter.h"
+#include "vtkWhittedGlyphPlacement.h"
 
 #include "vtkObject.h"
 #include "vtkProp.h"
@@ -83,14 +83,14 @@ void vtkWhittedWarnings::WarnGlyphArrays(vtkProp* actor, int problem)
     "scaling by components needs a scale array of 3 components",
     "one of its orientation, mask, source index or scale arrays has fewer tuples than the dataset has "
     "points" };
-  static_assert(vtkWhittedGlyphConverter::ShortArray == 4, "one message per glyph problem");
-  if (problem <= vtkWhittedGlyphConverter::None || problem > vtkWhittedGlyphConverter::ShortArray)
+  static_assert(vtkWhittedGlyphPlacement::ShortArray == 4, "one message per glyph problem");
+  if (problem <= vtkWhittedGlyphPlacement::None || problem > vtkWhittedGlyphPlacement::ShortArray)
   {
     return;
   }
   this->WarnOnce(actor, GlyphArrays,
     std::string(what[problem]) + ": as in VTK, " +
-      (problem == vtkWhittedGlyphConverter::ScaleComponents ? "glyphs are not scaled"
+      (problem == vtkWhittedGlyphPlacement::ScaleComponents ? "glyphs are not scaled"
                                                             : "no glyph is drawn"));
 }
 

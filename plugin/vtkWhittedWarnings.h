@@ -86,7 +86,7 @@ public:
   void Warn(vtkProp* prop, Warning warning);
 
   /**
-   * GlyphArrays: the vtkWhittedGlyphConverter::Problem (not None) that kept actor's glyphs from
+   * GlyphArrays: the vtkWhittedGlyphPlacement::Problem (not None) that kept actor's glyphs from
    * being placed or scaled.
    */
   void WarnGlyphArrays(vtkProp* actor, int problem);
