@@ -7,6 +7,7 @@ set(whitted_conversion_sources
   vtkWhittedPolyDataConverter.cxx  # one polydata -> triangles, spheres, tubes
   vtkWhittedGlyphConverter.cxx     # vtkGlyph3DMapper -> one instance per glyph
   vtkWhittedTextureCache.cxx       # vtkTexture -> scene textures
+  vtkWhittedMaterialKeys.cxx       # the Whitted information keys (public header: module/CMakeLists.txt)
   vtkWhittedMaterials.cxx          # vtkProperty + Whitted keys -> material
   vtkWhittedLights.cxx             # vtkLight -> lights
   vtkWhittedEnvironment.cxx        # background, skybox, environment texture

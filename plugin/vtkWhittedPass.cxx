@@ -2,6 +2,7 @@
 
 #include "vtkWhittedCompositor.h"
 #include "vtkWhittedFrameStatistics.h"
+#include "vtkWhittedMaterialKeys.h"
 #include "vtkWhittedMatrix.h"
 #include "vtkWhittedSceneConverter.h"
 
@@ -13,10 +14,6 @@
 #include "vtkFrameBufferObjectBase.h"
 #include "vtkHardwareSelector.h"
 #include "vtkImageData.h"
-#include "vtkInformationDoubleKey.h"
-#include "vtkInformationDoubleVectorKey.h"
-#include "vtkInformationObjectBaseKey.h"
-#include "vtkInformationStringKey.h"
 #include "vtkLight.h"
 #include "vtkLightCollection.h"
 #include "vtkLightsPass.h"
@@ -206,13 +203,23 @@ vtkStandardNewMacro(vtkWhittedPassInternals);
 
 //------------------------------------------------------------------------------
 vtkStandardNewMacro(vtkWhittedPass);
-vtkInformationKeyMacro(vtkWhittedPass, REFLECTANCE, DoubleVector);
-vtkInformationKeyMacro(vtkWhittedPass, TRANSMITTANCE, DoubleVector);
-vtkInformationKeyMacro(vtkWhittedPass, INDEX_OF_REFRACTION, Double);
-vtkInformationKeyMacro(vtkWhittedPass, ATTENUATION_COLOR, DoubleVector);
-vtkInformationKeyMacro(vtkWhittedPass, ATTENUATION_DISTANCE, Double);
-vtkInformationKeyMacro(vtkWhittedPass, RADIUS_ARRAY, String);
-vtkInformationKeyMacro(vtkWhittedPass, RADIUS_FUNCTION, ObjectBase);
+
+//------------------------------------------------------------------------------
+// Kept for compatibility: vtkWhittedPass::NAME() returns vtkWhittedMaterialKeys::NAME(), the very
+// same key object (defined once, in vtkWhittedMaterialKeys.cxx)
+#define vtkWhittedPassKeyForwarder(NAME, type)                                                     \
+  vtkInformation##type##Key* vtkWhittedPass::NAME()                                                \
+  {                                                                                                \
+    return vtkWhittedMaterialKeys::NAME();                                                         \
+  }
+vtkWhittedPassKeyForwarder(REFLECTANCE, DoubleVector);
+vtkWhittedPassKeyForwarder(TRANSMITTANCE, DoubleVector);
+vtkWhittedPassKeyForwarder(INDEX_OF_REFRACTION, Double);
+vtkWhittedPassKeyForwarder(ATTENUATION_COLOR, DoubleVector);
+vtkWhittedPassKeyForwarder(ATTENUATION_DISTANCE, Double);
+vtkWhittedPassKeyForwarder(RADIUS_ARRAY, String);
+vtkWhittedPassKeyForwarder(RADIUS_FUNCTION, ObjectBase);
+#undef vtkWhittedPassKeyForwarder
 
 //------------------------------------------------------------------------------
 vtkWhittedPass::vtkWhittedPass()
