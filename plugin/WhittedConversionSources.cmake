@@ -6,6 +6,8 @@ set(whitted_conversion_sources
   vtkWhittedInstanceSlots.cxx      # scene instances and materials, reused across frames
   vtkWhittedActorPieces.cxx        # the polydata an actor draws (blocks, surfaces); plain points / lines
   vtkWhittedGeometryCache.cxx      # converted geometry per (mapper, input or block, options)
+  vtkWhittedGeometryTimeCache.cxx  #   its time cache: earlier contents kept by fingerprint, and what is kept
+  vtkWhittedGeometryFingerprint.cxx #  the fingerprints: a polydata's contents, a mapper's colouring state
   vtkWhittedPolyDataConverter.cxx  # one polydata -> triangles, spheres, tubes
   vtkWhittedPolyDataTriangles.cxx  #   polygons and strips -> triangle mesh (normals, coordinates)
   vtkWhittedPolyDataSpheres.cxx    #   vertices (or every point) -> spheres
@@ -14,6 +16,7 @@ set(whitted_conversion_sources
   vtkWhittedGlyphConverter.cxx     # vtkGlyph3DMapper -> one instance per glyph
   vtkWhittedGlyphPlacement.cxx     # where VTK places each glyph of a vtkGlyph3DMapper
   vtkWhittedTextureCache.cxx       # vtkTexture -> scene textures
+  vtkWhittedMaterialKeys.cxx       # the Whitted information keys (public header: module/CMakeLists.txt)
   vtkWhittedMaterials.cxx          # vtkProperty + Whitted keys -> material
   vtkWhittedLights.cxx             # vtkLight -> lights
   vtkWhittedEnvironment.cxx        # background, skybox, environment texture
@@ -23,6 +26,8 @@ set(whitted_conversion_headers
   vtkWhittedInstanceSlots.h
   vtkWhittedActorPieces.h
   vtkWhittedGeometryCache.h
+  vtkWhittedGeometryTimeCache.h
+  vtkWhittedGeometryFingerprint.h
   vtkWhittedPolyDataConverter.h
   vtkWhittedPolyDataPrimitives.h
   vtkWhittedGlyphConverter.h

@@ -1,6 +1,6 @@
 #include "vtkWhittedClassicScene.h"
 
-#include "vtkWhittedPass.h"
+#include "vtkWhittedMaterialKeys.h"
 
 #include "vtkActor.h"
 #include "vtkCamera.h"
@@ -72,11 +72,11 @@ vtkSmartPointer<vtkActor> BallActor(const Description::Ball& b, int resolution)
   p->SetSpecular(b.specular);
   p->SetSpecularPower(b.specularPower);
   vtkInformation* info = p->GetInformation();
-  info->Set(vtkWhittedPass::REFLECTANCE(), &b.reflectance, 1);
+  info->Set(vtkWhittedMaterialKeys::REFLECTANCE(), &b.reflectance, 1);
   if (b.transmittance > 0.0)
   {
-    info->Set(vtkWhittedPass::TRANSMITTANCE(), &b.transmittance, 1);
-    info->Set(vtkWhittedPass::INDEX_OF_REFRACTION(), b.ior);
+    info->Set(vtkWhittedMaterialKeys::TRANSMITTANCE(), &b.transmittance, 1);
+    info->Set(vtkWhittedMaterialKeys::INDEX_OF_REFRACTION(), b.ior);
   }
   return actor;
 }

@@ -40,6 +40,7 @@
  * Replaying a pipeline without time information converts once more, then hits.
  *
  * @sa vtkWhittedSceneConverter vtkWhittedPolyDataConverter vtkWhittedTextureCache
+ * vtkWhittedGeometryTimeCache vtkWhittedGeometryFingerprint
  */
 
 #ifndef vtkWhittedGeometryCache_h
@@ -59,6 +60,7 @@ class vtkDataSet;
 class vtkDataSetSurfaceFilter;
 class vtkMapper;
 class vtkPolyData;
+class vtkWhittedGeometryTimeCache;
 class vtkWhittedTextureCache;
 
 namespace whitted
@@ -171,15 +173,13 @@ private:
   bool Restore(const Key& key, Geometry& g, uint64_t statePrint, uint64_t contentPrint,
     bool hasTime, double time);
 
-  struct TimeCache;
-
   whitted::Scene& Scene;
   vtkWhittedTextureCache& Textures;
   unsigned long Frame = 0;
   std::map<Key, Geometry> Geometries;
   std::map<vtkMapper*, Surface> Surfaces;
   std::vector<uint32_t> FreeObjects;
-  std::unique_ptr<TimeCache> Kept;
+  std::unique_ptr<vtkWhittedGeometryTimeCache> Kept;
 };
 
 #endif

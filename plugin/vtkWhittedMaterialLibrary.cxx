@@ -1,6 +1,6 @@
 #include "vtkWhittedMaterialLibrary.h"
 
-#include "vtkWhittedPass.h"
+#include "vtkWhittedMaterialKeys.h"
 
 #include "vtkInformation.h"
 #include "vtkInformationDoubleKey.h"
@@ -84,9 +84,9 @@ void ApplyKeys(const WhittedKeys& k, vtkProperty* property)
       info->Remove(key);
     }
   };
-  setColor(vtkWhittedPass::REFLECTANCE(), k.HasReflectance, k.Reflectance);
-  setColor(vtkWhittedPass::TRANSMITTANCE(), k.HasTransmittance, k.Transmittance);
-  setColor(vtkWhittedPass::ATTENUATION_COLOR(), k.AttenuationColor != RGB{ 1, 1, 1 },
+  setColor(vtkWhittedMaterialKeys::REFLECTANCE(), k.HasReflectance, k.Reflectance);
+  setColor(vtkWhittedMaterialKeys::TRANSMITTANCE(), k.HasTransmittance, k.Transmittance);
+  setColor(vtkWhittedMaterialKeys::ATTENUATION_COLOR(), k.AttenuationColor != RGB{ 1, 1, 1 },
     k.AttenuationColor);
   auto setScalar = [&](vtkInformationDoubleKey* key, double value, double fallback)
   {
@@ -99,8 +99,8 @@ void ApplyKeys(const WhittedKeys& k, vtkProperty* property)
       info->Remove(key);
     }
   };
-  setScalar(vtkWhittedPass::INDEX_OF_REFRACTION(), k.IndexOfRefraction, 1.0);
-  setScalar(vtkWhittedPass::ATTENUATION_DISTANCE(), k.AttenuationDistance, 1.0);
+  setScalar(vtkWhittedMaterialKeys::INDEX_OF_REFRACTION(), k.IndexOfRefraction, 1.0);
+  setScalar(vtkWhittedMaterialKeys::ATTENUATION_DISTANCE(), k.AttenuationDistance, 1.0);
   property->Modified();
 }
 

@@ -2,9 +2,9 @@
  * @class   vtkWhittedMaterialLibrary
  * @brief   named Whitted materials: built-in presets and OSPRay material library files
  *
- * A material here is a set of vtkWhittedPass information keys (REFLECTANCE, TRANSMITTANCE,
- * INDEX_OF_REFRACTION, ATTENUATION_COLOR, ATTENUATION_DISTANCE) applied to a vtkProperty. Applying
- * one sets every key, so nothing of a previous material is left over.
+ * A material here is a set of Whitted information keys (vtkWhittedMaterialKeys: REFLECTANCE,
+ * TRANSMITTANCE, INDEX_OF_REFRACTION, ATTENUATION_COLOR, ATTENUATION_DISTANCE) applied to a
+ * vtkProperty. Applying one sets every key, so nothing of a previous material is left over.
  *
  * Built-in presets (ApplyPreset), each defined by its normal-incidence reflectance or its
  * transmittance; the surface's own colour and highlight stay as the vtkProperty sets them and
@@ -37,7 +37,7 @@
  *   SpecularPower, d -> Opacity, Tf -> TRANSMITTANCE.
  * Roughness and other fields of a rough or layered model have no Whitted equivalent.
  *
- * @sa vtkWhittedPass vtkOSPRayMaterialLibrary
+ * @sa vtkWhittedMaterialKeys vtkWhittedPass vtkOSPRayMaterialLibrary
  */
 
 #ifndef vtkWhittedMaterialLibrary_h

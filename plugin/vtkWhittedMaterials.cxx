@@ -1,6 +1,6 @@
 #include "vtkWhittedMaterials.h"
 
-#include "vtkWhittedPass.h"
+#include "vtkWhittedMaterialKeys.h"
 #include "vtkWhittedWarnings.h"
 
 #include "vtkActor.h"
@@ -35,11 +35,11 @@ void ReadWhittedKeys(vtkInformation* info, whitted::Material& m)
       }
     }
   };
-  readColor(vtkWhittedPass::REFLECTANCE(), m.reflectance);
-  readColor(vtkWhittedPass::TRANSMITTANCE(), m.transmittance);
-  if (info->Has(vtkWhittedPass::INDEX_OF_REFRACTION()))
+  readColor(vtkWhittedMaterialKeys::REFLECTANCE(), m.reflectance);
+  readColor(vtkWhittedMaterialKeys::TRANSMITTANCE(), m.transmittance);
+  if (info->Has(vtkWhittedMaterialKeys::INDEX_OF_REFRACTION()))
   {
-    m.ior = static_cast<float>(info->Get(vtkWhittedPass::INDEX_OF_REFRACTION()));
+    m.ior = static_cast<float>(info->Get(vtkWhittedMaterialKeys::INDEX_OF_REFRACTION()));
   }
 
   // Beer-Lambert: the colour kept after a distance, as the coefficient per unit the core uses
@@ -47,9 +47,9 @@ void ReadWhittedKeys(vtkInformation* info, whitted::Material& m)
   // colour above 1, below 0 or NaN, or a negative distance, gives a coefficient that
   // sanitizeMaterial clamps to 0 and warns about).
   Color attenuation(1.0f);
-  readColor(vtkWhittedPass::ATTENUATION_COLOR(), attenuation);
-  const double distance = info->Has(vtkWhittedPass::ATTENUATION_DISTANCE())
-    ? info->Get(vtkWhittedPass::ATTENUATION_DISTANCE())
+  readColor(vtkWhittedMaterialKeys::ATTENUATION_COLOR(), attenuation);
+  const double distance = info->Has(vtkWhittedMaterialKeys::ATTENUATION_DISTANCE())
+    ? info->Get(vtkWhittedMaterialKeys::ATTENUATION_DISTANCE())
     : 1.0;
   for (int i = 0; i < 3; ++i)
   {

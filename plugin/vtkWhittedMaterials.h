@@ -4,7 +4,7 @@
  *
  * Private to the Whitted module. VTK's surface terms (Ambient, Diffuse, Specular and their colours,
  * SpecularPower, Opacity, Lighting, Interpolation) are taken as they are; the Whitted terms come
- * from the property's information keys (vtkWhittedPass::REFLECTANCE, TRANSMITTANCE,
+ * from the property's information keys (vtkWhittedMaterialKeys::REFLECTANCE, TRANSMITTANCE,
  * INDEX_OF_REFRACTION, ATTENUATION_COLOR, ATTENUATION_DISTANCE) with defaults that keep VTK's
  * look (no reflection, transmittance 1 - Opacity, index 1, no absorption). EdgeVisibility with
  * EdgeColor and LineWidth become the material's edges (pixels); PBR interpolation is mapped to a

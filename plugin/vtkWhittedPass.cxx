@@ -1,6 +1,7 @@
 #include "vtkWhittedPass.h"
 
 #include "vtkWhittedFrameStatistics.h"
+#include "vtkWhittedMaterialKeys.h"
 #include "vtkWhittedPassInternals.h"
 
 #include "vtkInformationDoubleKey.h"
@@ -18,13 +19,23 @@ vtkStandardNewMacro(vtkWhittedPassInternals);
 
 //------------------------------------------------------------------------------
 vtkStandardNewMacro(vtkWhittedPass);
-vtkInformationKeyMacro(vtkWhittedPass, REFLECTANCE, DoubleVector);
-vtkInformationKeyMacro(vtkWhittedPass, TRANSMITTANCE, DoubleVector);
-vtkInformationKeyMacro(vtkWhittedPass, INDEX_OF_REFRACTION, Double);
-vtkInformationKeyMacro(vtkWhittedPass, ATTENUATION_COLOR, DoubleVector);
-vtkInformationKeyMacro(vtkWhittedPass, ATTENUATION_DISTANCE, Double);
-vtkInformationKeyMacro(vtkWhittedPass, RADIUS_ARRAY, String);
-vtkInformationKeyMacro(vtkWhittedPass, RADIUS_FUNCTION, ObjectBase);
+
+//------------------------------------------------------------------------------
+// Kept for compatibility: vtkWhittedPass::NAME() returns vtkWhittedMaterialKeys::NAME(), the very
+// same key object (defined once, in vtkWhittedMaterialKeys.cxx)
+#define vtkWhittedPassKeyForwarder(NAME, type)                                                     \
+  vtkInformation##type##Key* vtkWhittedPass::NAME()                                                \
+  {                                                                                                \
+    return vtkWhittedMaterialKeys::NAME();                                                         \
+  }
+vtkWhittedPassKeyForwarder(REFLECTANCE, DoubleVector);
+vtkWhittedPassKeyForwarder(TRANSMITTANCE, DoubleVector);
+vtkWhittedPassKeyForwarder(INDEX_OF_REFRACTION, Double);
+vtkWhittedPassKeyForwarder(ATTENUATION_COLOR, DoubleVector);
+vtkWhittedPassKeyForwarder(ATTENUATION_DISTANCE, Double);
+vtkWhittedPassKeyForwarder(RADIUS_ARRAY, String);
+vtkWhittedPassKeyForwarder(RADIUS_FUNCTION, ObjectBase);
+#undef vtkWhittedPassKeyForwarder
 
 //------------------------------------------------------------------------------
 vtkWhittedPass::vtkWhittedPass()

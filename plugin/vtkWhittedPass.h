@@ -15,17 +15,20 @@
  *   -> VTK's own OpenGL stages for every prop the tracer does not handle (2D actors, volumes, image
  *      slices, plain points/lines/wireframe), depth-tested against the traced image, then overlays.
  *
- * Whitted materials are set per actor with information keys on its vtkProperty:
+ * Whitted materials are set per actor with information keys on its vtkProperty (the keys:
+ * vtkWhittedMaterialKeys):
  * @code
- *   prop->GetInformation()->Set(vtkWhittedPass::REFLECTANCE(), 0.8);            // grey mirror
+ *   vtkInformation* info = prop->GetInformation();
+ *   double kr = 0.8;
+ *   info->Set(vtkWhittedMaterialKeys::REFLECTANCE(), &kr, 1);         // grey mirror
  *   double kt[3] = { 0.9, 0.9, 0.8 };
- *   prop->GetInformation()->Set(vtkWhittedPass::TRANSMITTANCE(), kt, 3);        // tinted glass
- *   prop->GetInformation()->Set(vtkWhittedPass::INDEX_OF_REFRACTION(), 1.5);
+ *   info->Set(vtkWhittedMaterialKeys::TRANSMITTANCE(), kt, 3);        // tinted glass
+ *   info->Set(vtkWhittedMaterialKeys::INDEX_OF_REFRACTION(), 1.5);
  *   double gold[3] = { 1.0, 0.78, 0.34 };
- *   prop->GetInformation()->Set(vtkWhittedPass::REFLECTANCE(), gold, 3);        // coloured metal
- *   double tint[3] = { 0.6, 0.9, 0.8 };                                          // after 2 world units
- *   prop->GetInformation()->Set(vtkWhittedPass::ATTENUATION_COLOR(), tint, 3);  // of glass, light
- *   prop->GetInformation()->Set(vtkWhittedPass::ATTENUATION_DISTANCE(), 2.0);   // keeps this colour
+ *   info->Set(vtkWhittedMaterialKeys::REFLECTANCE(), gold, 3);        // coloured metal
+ *   double tint[3] = { 0.6, 0.9, 0.8 };                                // after 2 world units
+ *   info->Set(vtkWhittedMaterialKeys::ATTENUATION_COLOR(), tint, 3);  // of glass, light
+ *   info->Set(vtkWhittedMaterialKeys::ATTENUATION_DISTANCE(), 2.0);   // keeps this colour
  * @endcode
  * Without keys an actor keeps its VTK look: reflectance 0, transmittance 1 - Opacity, index 1.
  * Energy rule: the body colour (ambient + diffuse) is weighted by min(Opacity, 1 - max over
@@ -38,7 +41,8 @@
  * vtkWhittedSettings.h. The statistics of the last frame (time per phase, rays by kind, scene size,
  * what was rebuilt) are in GetLastFrameStatistics(), and as text in GetLastFrameReport().
  *
- * @sa vtkRenderPass vtkOSPRayPass vtkWhittedFrameStatistics vtkWhittedSettings.h
+ * @sa vtkRenderPass vtkOSPRayPass vtkWhittedMaterialKeys vtkWhittedFrameStatistics
+ * vtkWhittedSettings.h
  */
 
 #ifndef vtkWhittedPass_h
@@ -176,40 +180,16 @@ public:
 
   ///@{
   /**
-   * Whitted material keys, set on an actor's vtkProperty information.
-   * REFLECTANCE: weight of the mirror-reflected ray, 1 value (grey) or 3 (RGB) in [0,1]. Default 0.
-   * TRANSMITTANCE: weight of the transmitted (refracted) ray and the filter applied to shadow rays
-   * crossing the actor, 1 or 3 values in [0,1]. Default 1 - Opacity.
-   * Energy: where REFLECTANCE + TRANSMITTANCE exceeds 1 in some channel, both are scaled (all
-   * channels) by 1 / the largest channel sum, with one warning per actor.
-   * INDEX_OF_REFRACTION: index of the actor's inside (outside is 1). Default 1 (no bending).
-   * ATTENUATION_COLOR: Beer-Lambert absorption inside the actor, as the colour (1 or 3 values in
-   * (0,1]) that white light keeps after ATTENUATION_DISTANCE world units inside it; applied to
-   * refracted rays over the distance they travel inside. Default 1 (no absorption).
-   * ATTENUATION_DISTANCE: world units over which light inside keeps ATTENUATION_COLOR (> 0).
-   * Default 1. (The absorption coefficient per unit is -ln(colour) / distance, per channel.)
-   * Energy rule (how the actor's own colour shares the pixel with these rays): class documentation.
+   * Kept for compatibility: the Whitted information keys now live on vtkWhittedMaterialKeys,
+   * where they are documented. Each of these returns the very same key object as the function of
+   * that name there (vtkWhittedPass::REFLECTANCE() == vtkWhittedMaterialKeys::REFLECTANCE()), so
+   * code and scripts written against either spelling set and read the same keys.
    */
   static vtkInformationDoubleVectorKey* REFLECTANCE();
   static vtkInformationDoubleVectorKey* TRANSMITTANCE();
   static vtkInformationDoubleKey* INDEX_OF_REFRACTION();
   static vtkInformationDoubleVectorKey* ATTENUATION_COLOR();
   static vtkInformationDoubleKey* ATTENUATION_DISTANCE();
-  ///@}
-
-  ///@{
-  /**
-   * Per-point radii of points drawn as spheres (RenderPointsAsSpheres, points representation) and
-   * lines drawn as tubes (RenderLinesAsTubes), set on an actor's vtkProperty information (the
-   * counterpart of vtkOSPRayActorNode's SCALE_ARRAY_NAME / SCALE_FUNCTION, which Debian's VTK
-   * does not build).
-   * RADIUS_ARRAY: name of a point array; a point's radius is its value (its only component, or
-   * the magnitude of a vector), in data units. A tube segment has the mean of its two end
-   * points' radii. Default unset: radius PointSize (LineWidth) x data diagonal / 1000.
-   * RADIUS_FUNCTION: a vtkPiecewiseFunction the values go through first (clamped to its range),
-   * e.g. to map a scalar range onto a radius range. Default unset (values are radii).
-   * (vtkPointGaussianMapper's ScaleArray, ScaleFunction and ScaleFactor are read from the mapper.)
-   */
   static vtkInformationStringKey* RADIUS_ARRAY();
   static vtkInformationObjectBaseKey* RADIUS_FUNCTION();
   ///@}

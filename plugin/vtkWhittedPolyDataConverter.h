@@ -19,9 +19,9 @@
  * coordinates.
  * - Vertex cells become spheres, line cells tubes (tubes), of radius PointSize (LineWidth) times
  * the input's diagonal / 1000 (VTK's OSPRay pass makes the same choice), or per point from a
- * radius array (Options::RadiusArray: vtkWhittedPass::RADIUS_ARRAY, vtkPointGaussianMapper). In
- * points representation every point used by a cell is a sphere; in wireframe representation every
- * polygon / strip edge (once) is a tube.
+ * radius array (Options::RadiusArray: vtkWhittedMaterialKeys::RADIUS_ARRAY,
+ * vtkPointGaussianMapper). In points representation every point used by a cell is a sphere; in
+ * wireframe representation every polygon / strip edge (once) is a tube.
  * - Bad input never reaches the tracer unchecked: cells with point ids out of range and malformed
  * cell arrays are skipped, attribute arrays shorter than the points (cells) they describe are
  * ignored, spheres / tubes without a positive radius are left out; non-finite points, normals and

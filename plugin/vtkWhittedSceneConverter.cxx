@@ -6,9 +6,9 @@
 #include "vtkWhittedGlyphConverter.h"
 #include "vtkWhittedInstanceSlots.h"
 #include "vtkWhittedLights.h"
+#include "vtkWhittedMaterialKeys.h"
 #include "vtkWhittedMaterials.h"
 #include "vtkWhittedMatrix.h"
-#include "vtkWhittedPass.h"
 #include "vtkWhittedTextureCache.h"
 #include "vtkWhittedWarnings.h"
 
@@ -89,10 +89,10 @@ vtkWhittedPolyDataConverter::Options GeometryOptions(vtkActor* actor)
     opts.FunctionsTime = std::max(opts.FunctionsTime, f ? f->GetMTime() : 0);
     return f;
   };
-  if (info && info->Has(vtkWhittedPass::RADIUS_ARRAY()))
+  if (info && info->Has(vtkWhittedMaterialKeys::RADIUS_ARRAY()))
   {
-    opts.RadiusArray = info->Get(vtkWhittedPass::RADIUS_ARRAY());
-    opts.RadiusFunction = functionOf(info->Get(vtkWhittedPass::RADIUS_FUNCTION()));
+    opts.RadiusArray = info->Get(vtkWhittedMaterialKeys::RADIUS_ARRAY());
+    opts.RadiusFunction = functionOf(info->Get(vtkWhittedMaterialKeys::RADIUS_FUNCTION()));
   }
   if (auto* gaussian = vtkPointGaussianMapper::SafeDownCast(actor->GetMapper()))
   {
@@ -233,7 +233,8 @@ struct vtkWhittedSceneConverter::Internals
     vtkProperty* p = actor->GetProperty();
     vtkInformation* info = p->GetInformation();
     const bool whittedKeys = info &&
-      (info->Has(vtkWhittedPass::REFLECTANCE()) || info->Has(vtkWhittedPass::TRANSMITTANCE()));
+      (info->Has(vtkWhittedMaterialKeys::REFLECTANCE()) ||
+        info->Has(vtkWhittedMaterialKeys::TRANSMITTANCE()));
     if (p->GetOpacity() <= 0.0 && !whittedKeys)
     {
       return true;

@@ -1,5 +1,5 @@
 import vtkmodules.all as vtk
-from whitted import vtkWhittedPass
+from whitted import vtkWhittedMaterialKeys, vtkWhittedPass
 
 sphere, plane = vtk.vtkSphereSource(), vtk.vtkPlaneSource()
 sphere.SetCenter(0, 0, 0.6); sphere.SetThetaResolution(64); sphere.SetPhiResolution(32)
@@ -10,9 +10,9 @@ for source in (sphere, plane):
     mapper, actor = vtk.vtkPolyDataMapper(), vtk.vtkActor()
     mapper.SetInputConnection(source.GetOutputPort()); actor.SetMapper(mapper); ren.AddActor(actor)
 glass = ren.GetActors().GetItemAsObject(0).GetProperty().GetInformation()
-glass.Set(vtkWhittedPass.TRANSMITTANCE(), [0.9, 0.9, 0.8], 3)   # kt: refracted share, filters shadows
-glass.Set(vtkWhittedPass.REFLECTANCE(), [0.1], 1)                # kr: mirrored share
-glass.Set(vtkWhittedPass.INDEX_OF_REFRACTION(), 1.5)
-ren.SetPass(vtkWhittedPass())                                    # the one line that turns ray tracing on
+glass.Set(vtkWhittedMaterialKeys.TRANSMITTANCE(), [0.9, 0.9, 0.8], 3)  # kt: refracted share, filters shadows
+glass.Set(vtkWhittedMaterialKeys.REFLECTANCE(), [0.1], 1)               # kr: mirrored share
+glass.Set(vtkWhittedMaterialKeys.INDEX_OF_REFRACTION(), 1.5)
+ren.SetPass(vtkWhittedPass())                                           # the one line that turns ray tracing on
 ren.GetActiveCamera().Elevation(-60); ren.ResetCamera(); win.Render()
 print(ren.GetPass().GetLastFrameReport())

@@ -3,20 +3,20 @@
 Every function takes a vtkRenderer, adds actors and lights, sets the background and the camera, and
 returns a dict of the actors it created (by name) so callers can tweak them.
 """
-from .vtkWhitted import vtkWhittedClassicScene, vtkWhittedPass
+from .vtkWhitted import vtkWhittedClassicScene, vtkWhittedMaterialKeys
 
 
 def set_whitted(prop, reflectance=None, transmittance=None, ior=None):
     """Sets the Whitted material keys on a vtkProperty (scalars or RGB triples)."""
     info = prop.GetInformation()
-    for key, value in ((vtkWhittedPass.REFLECTANCE(), reflectance),
-                       (vtkWhittedPass.TRANSMITTANCE(), transmittance)):
+    for key, value in ((vtkWhittedMaterialKeys.REFLECTANCE(), reflectance),
+                       (vtkWhittedMaterialKeys.TRANSMITTANCE(), transmittance)):
         if value is None:
             continue
         values = [float(value)] if isinstance(value, (int, float)) else [float(v) for v in value]
         info.Set(key, values, len(values))
     if ior is not None:
-        info.Set(vtkWhittedPass.INDEX_OF_REFRACTION(), float(ior))
+        info.Set(vtkWhittedMaterialKeys.INDEX_OF_REFRACTION(), float(ior))
 
 
 def classic_scene(renderer, resolution=48):

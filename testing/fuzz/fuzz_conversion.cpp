@@ -16,8 +16,8 @@
 // anything (the depth net: with the camera fitted to the scene's bounds, where those are finite, at most 1e30 and
 // at least 1e-6 of their distance from the origin), colours finite and >= 0, depths finite in [0, 1], exactly 1
 // where a pixel's camera ray hits nothing and (fitted camera) the hit's GL depth where it hits.
+#include "vtkWhittedMaterialKeys.h"  // a conversion source, compiled into this target
 #include "vtkWhittedMatrix.h"
-#include "vtkWhittedPass.h"  // the Whitted information keys (defined below: the module is not linked)
 #include "vtkWhittedSceneConverter.h"
 
 #include "vtkActor.h"
@@ -67,15 +67,6 @@
 #include <limits>
 #include <string>
 #include <vector>
-
-// The keys live in vtkWhittedPass.cxx, which needs OpenGL; this target links only the converter
-vtkInformationKeyMacro(vtkWhittedPass, REFLECTANCE, DoubleVector);
-vtkInformationKeyMacro(vtkWhittedPass, TRANSMITTANCE, DoubleVector);
-vtkInformationKeyMacro(vtkWhittedPass, INDEX_OF_REFRACTION, Double);
-vtkInformationKeyMacro(vtkWhittedPass, ATTENUATION_COLOR, DoubleVector);
-vtkInformationKeyMacro(vtkWhittedPass, ATTENUATION_DISTANCE, Double);
-vtkInformationKeyMacro(vtkWhittedPass, RADIUS_ARRAY, String);
-vtkInformationKeyMacro(vtkWhittedPass, RADIUS_FUNCTION, ObjectBase);
 
 namespace {
 struct Reader : whitted_fuzz::Bytes {
@@ -294,8 +285,9 @@ void RandomProperty(Reader& r, vtkProperty* p) {
   p->SetLighting(r.u8() % 8 != 0);
   p->SetBackfaceCulling(r.u8() % 8 == 0);
   vtkInformation* info = p->GetInformation();
-  for (vtkInformationDoubleVectorKey* key : {vtkWhittedPass::REFLECTANCE(), vtkWhittedPass::TRANSMITTANCE(),
-                                              vtkWhittedPass::ATTENUATION_COLOR()}) {
+  for (vtkInformationDoubleVectorKey* key :
+       {vtkWhittedMaterialKeys::REFLECTANCE(), vtkWhittedMaterialKeys::TRANSMITTANCE(),
+        vtkWhittedMaterialKeys::ATTENUATION_COLOR()}) {
     const int n = r.u8() % 6;  // 0 = not set
     if (n > 0) {
       double v[4] = {0.0, 0.0, 0.0, 0.0};
@@ -306,10 +298,10 @@ void RandomProperty(Reader& r, vtkProperty* p) {
     }
   }
   if (r.bit()) {
-    info->Set(vtkWhittedPass::INDEX_OF_REFRACTION(), r.value());
+    info->Set(vtkWhittedMaterialKeys::INDEX_OF_REFRACTION(), r.value());
   }
   if (r.bit()) {
-    info->Set(vtkWhittedPass::ATTENUATION_DISTANCE(), r.value());
+    info->Set(vtkWhittedMaterialKeys::ATTENUATION_DISTANCE(), r.value());
   }
 }
 
@@ -411,9 +403,9 @@ vtkSmartPointer<vtkPiecewiseFunction> RandomFunction(Reader& r) {
 
 /// Per-point radius keys on a property: an array by name, maybe a function.
 void RandomRadiusKeys(Reader& r, vtkProperty* p) {
-  p->GetInformation()->Set(vtkWhittedPass::RADIUS_ARRAY(), ("a" + std::to_string(r.u8() % 10)).c_str());
+  p->GetInformation()->Set(vtkWhittedMaterialKeys::RADIUS_ARRAY(), ("a" + std::to_string(r.u8() % 10)).c_str());
   if (r.bit()) {
-    p->GetInformation()->Set(vtkWhittedPass::RADIUS_FUNCTION(), RandomFunction(r));
+    p->GetInformation()->Set(vtkWhittedMaterialKeys::RADIUS_FUNCTION(), RandomFunction(r));
   }
 }
 

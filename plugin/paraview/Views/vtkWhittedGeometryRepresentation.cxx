@@ -9,8 +9,8 @@
 #include "vtkPVLODActor.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkProperty.h"
+#include "vtkWhittedMaterialKeys.h"
 #include "vtkWhittedMaterialLibrary.h"
-#include "vtkWhittedPass.h"
 
 #include <cstring>
 #include <string>
@@ -91,17 +91,17 @@ void vtkWhittedGeometryRepresentation::UpdateMaterialKeys()
   {
     kr[i] = this->Reflectance * this->ReflectanceColor[i];
   }
-  info->Set(vtkWhittedPass::REFLECTANCE(), kr, 3);
+  info->Set(vtkWhittedMaterialKeys::REFLECTANCE(), kr, 3);
   if (this->Transmittance > 0.0)
   {
-    info->Set(vtkWhittedPass::TRANSMITTANCE(), &this->Transmittance, 1);
+    info->Set(vtkWhittedMaterialKeys::TRANSMITTANCE(), &this->Transmittance, 1);
   }
-  info->Set(vtkWhittedPass::INDEX_OF_REFRACTION(), this->IndexOfRefraction);
+  info->Set(vtkWhittedMaterialKeys::INDEX_OF_REFRACTION(), this->IndexOfRefraction);
   const double* a = this->AttenuationColor;
   if (a[0] != 1.0 || a[1] != 1.0 || a[2] != 1.0)
   {
-    info->Set(vtkWhittedPass::ATTENUATION_COLOR(), this->AttenuationColor, 3);
-    info->Set(vtkWhittedPass::ATTENUATION_DISTANCE(), this->AttenuationDistance);
+    info->Set(vtkWhittedMaterialKeys::ATTENUATION_COLOR(), this->AttenuationColor, 3);
+    info->Set(vtkWhittedMaterialKeys::ATTENUATION_DISTANCE(), this->AttenuationDistance);
   }
   this->Property->Modified();
   this->Modified();
@@ -228,19 +228,19 @@ void vtkWhittedGeometryRepresentation::UpdateRadiusKeys()
   vtkInformation* info = this->Property->GetInformation();
   if (this->ScalingMode >= 1 && !this->ScalingArray.empty())
   {
-    info->Set(vtkWhittedPass::RADIUS_ARRAY(), this->ScalingArray.c_str());
+    info->Set(vtkWhittedMaterialKeys::RADIUS_ARRAY(), this->ScalingArray.c_str());
   }
   else
   {
-    info->Remove(vtkWhittedPass::RADIUS_ARRAY());
+    info->Remove(vtkWhittedMaterialKeys::RADIUS_ARRAY());
   }
   if (this->ScalingMode == 1 && this->ScalingFunction)
   {
-    info->Set(vtkWhittedPass::RADIUS_FUNCTION(), this->ScalingFunction);
+    info->Set(vtkWhittedMaterialKeys::RADIUS_FUNCTION(), this->ScalingFunction);
   }
   else
   {
-    info->Remove(vtkWhittedPass::RADIUS_FUNCTION());
+    info->Remove(vtkWhittedMaterialKeys::RADIUS_FUNCTION());
   }
   this->Property->Modified();
 }

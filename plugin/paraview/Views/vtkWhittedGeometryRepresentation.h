@@ -3,21 +3,22 @@
  * @brief   surface representation carrying the Whitted material ("Whitted Surface" in the GUI)
  *
  * A vtkGeometryRepresentationWithFaces (ParaView's "Surface" representation class) with the
- * Whitted material, stored as vtkWhittedPass information keys on the actor's vtkProperty, where
- * vtkWhittedPass reads them: the same keys a VTK program sets by hand.
+ * Whitted material, stored as vtkWhittedMaterialKeys information keys on the actor's vtkProperty,
+ * where vtkWhittedPass reads them: the same keys a VTK program sets by hand.
  *
  * - MaterialPreset: 0 None (the fields below apply), else a vtkWhittedMaterialLibrary preset by
  *   index (1 Glass, 2 Water, 3 Mirror, 4 Chrome, 5 Gold, 6 Copper, 7 Plastic) that sets every key
  *   and overrides the fields below. Default 0.
  * - Reflectance: weight of the mirror-reflected ray in [0,1], times ReflectanceColor (RGB in
- *   [0,1], default white) -> vtkWhittedPass::REFLECTANCE. Default 0.
+ *   [0,1], default white) -> vtkWhittedMaterialKeys::REFLECTANCE. Default 0.
  * - Transmittance: weight of the refracted ray and shadow filter in [0,1]
- *   (vtkWhittedPass::TRANSMITTANCE). 0, the default, leaves the key unset so the pass uses
- *   1 - Opacity.
- * - IndexOfRefraction: index of the inside (vtkWhittedPass::INDEX_OF_REFRACTION). Default 1.
+ *   (vtkWhittedMaterialKeys::TRANSMITTANCE). 0, the default, leaves the key unset so the pass
+ *   uses 1 - Opacity.
+ * - IndexOfRefraction: index of the inside (vtkWhittedMaterialKeys::INDEX_OF_REFRACTION).
+ *   Default 1.
  * - AttenuationColor, AttenuationDistance: Beer-Lambert absorption inside, the colour white light
- *   keeps after that many world units (vtkWhittedPass::ATTENUATION_COLOR, ATTENUATION_DISTANCE).
- *   Default white (no absorption), 1.
+ *   keeps after that many world units (vtkWhittedMaterialKeys::ATTENUATION_COLOR,
+ *   ATTENUATION_DISTANCE). Default white (no absorption), 1.
  * - MaterialLibrary, LibraryMaterial: an OSPRay material library file (JSON, as ParaView's "Load
  *   Ray Tracing Materials" reads; read where the representation runs, i.e. on the server) and the
  *   name of one of its materials. With MaterialPreset None and a material of that name, the
@@ -26,11 +27,11 @@
  *
  * Per-point radii: ParaView's OSPRay scaling properties of the representation (Scaling Mode
  * "OSPRayUseScaleArray", Scale Array, Scale Function; hidden in the GUI of a ParaView without ray
- * tracing, settable from Python), which Debian's ParaView ignores, set the pass's radius keys
- * instead: Each Exact (2) -> vtkWhittedPass::RADIUS_ARRAY (points as spheres, lines as tubes take
- * the array's value as radius), Each Scaled (1) -> RADIUS_ARRAY and RADIUS_FUNCTION (values through
- * the Scale Function); All Approximate (0, the default) and All Exact (-1) leave them unset
- * (PointSize / LineWidth radii).
+ * tracing, settable from Python), which Debian's ParaView ignores, set the Whitted radius keys
+ * instead: Each Exact (2) -> vtkWhittedMaterialKeys::RADIUS_ARRAY (points as spheres, lines as
+ * tubes take the array's value as radius), Each Scaled (1) -> RADIUS_ARRAY and RADIUS_FUNCTION
+ * (values through the Scale Function); All Approximate (0, the default) and All Exact (-1) leave
+ * them unset (PointSize / LineWidth radii).
  *
  * The server-manager XML (xml/WhittedView.xml) adds it as representation type "Whitted Surface" to
  * ParaView's Geometry (polygonal and any other data set), UnstructuredGrid, StructuredGrid and
@@ -97,7 +98,7 @@ public:
 
   ///@{
   /**
-   * OSPRay scaling properties, forwarded as the pass's radius keys (see class documentation).
+   * OSPRay scaling properties, forwarded as the Whitted radius keys (see class documentation).
    */
   void SetEnableScaling(int mode) override;
   void SetScalingArrayName(const char* name) override;

@@ -1,7 +1,8 @@
 // Bad input does not break a frame: non-finite points are skipped (counted in the frame report,
 // one warning for the actor), out-of-range Whitted keys are clamped with one warning per actor (not
-// one per frame), and empty inputs or a mapper without input are ignored. Every kind of bad input,
-// case by case against a clean reference, is in TestWhittedBadInputCases.
+// one per frame), and empty inputs or a mapper without input are ignored. The keys are set through
+// vtkWhittedPass's compatibility key functions, which must return vtkWhittedMaterialKeys's keys.
+// Every kind of bad input, case by case against a clean reference, is in TestWhittedBadInputCases.
 #include "WhittedTestUtilities.h"
 
 #include "vtkCallbackCommand.h"
@@ -42,12 +43,22 @@ int TestWhittedBadInput(int, char*[])
   a->SetMapper(brokenMapper);
   ren->AddActor(a);
 
-  // Out-of-range Whitted terms
+  // Out-of-range Whitted terms, set through the compatibility spelling vtkWhittedPass::KEY(): the
+  // very same key objects as vtkWhittedMaterialKeys::KEY() (checked here), so the pass reads them
   auto b = Sphere(1.5, 0, 0, 0.5, 8);
   double kr = 3.0;
   b->GetProperty()->GetInformation()->Set(vtkWhittedPass::REFLECTANCE(), &kr, 1);
   b->GetProperty()->GetInformation()->Set(vtkWhittedPass::INDEX_OF_REFRACTION(), -2.0);
   ren->AddActor(b);
+  const bool sameKeys = vtkWhittedPass::REFLECTANCE() == vtkWhittedMaterialKeys::REFLECTANCE() &&
+    vtkWhittedPass::TRANSMITTANCE() == vtkWhittedMaterialKeys::TRANSMITTANCE() &&
+    vtkWhittedPass::INDEX_OF_REFRACTION() == vtkWhittedMaterialKeys::INDEX_OF_REFRACTION() &&
+    vtkWhittedPass::ATTENUATION_COLOR() == vtkWhittedMaterialKeys::ATTENUATION_COLOR() &&
+    vtkWhittedPass::ATTENUATION_DISTANCE() == vtkWhittedMaterialKeys::ATTENUATION_DISTANCE() &&
+    vtkWhittedPass::RADIUS_ARRAY() == vtkWhittedMaterialKeys::RADIUS_ARRAY() &&
+    vtkWhittedPass::RADIUS_FUNCTION() == vtkWhittedMaterialKeys::RADIUS_FUNCTION();
+  std::printf("vtkWhittedPass's key functions return vtkWhittedMaterialKeys's keys: %s\n",
+    sameKeys ? "yes" : "NO");
 
   // Empty input, and a mapper with no input at all
   vtkNew<vtkPolyData> empty;
@@ -82,5 +93,5 @@ int TestWhittedBadInput(int, char*[])
   {
     std::printf("expected exactly two warnings (got %d) and a complete frame\n", warnings);
   }
-  return ok ? EXIT_SUCCESS : EXIT_FAILURE;
+  return ok && sameKeys ? EXIT_SUCCESS : EXIT_FAILURE;
 }

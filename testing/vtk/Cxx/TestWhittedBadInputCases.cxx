@@ -481,7 +481,7 @@ std::vector<Case> Cases()
     {
       auto a = MaterialSphere();
       SetWhitted(a->GetProperty(), 0.1, 0.6);
-      a->GetProperty()->GetInformation()->Set(vtkWhittedPass::INDEX_OF_REFRACTION(), -1.5);
+      a->GetProperty()->GetInformation()->Set(vtkWhittedMaterialKeys::INDEX_OF_REFRACTION(), -1.5);
       return a;
     },
     []
@@ -496,7 +496,7 @@ std::vector<Case> Cases()
     {
       auto a = MaterialSphere();
       SetWhitted(a->GetProperty(), 0.1, 0.6);
-      a->GetProperty()->GetInformation()->Set(vtkWhittedPass::INDEX_OF_REFRACTION(), nan);
+      a->GetProperty()->GetInformation()->Set(vtkWhittedMaterialKeys::INDEX_OF_REFRACTION(), nan);
       return a;
     },
     []
@@ -512,7 +512,7 @@ std::vector<Case> Cases()
       auto a = MaterialSphere();
       SetWhitted(a->GetProperty(), 2.0);
       double kt[3] = { -1.0, 0.5, 0.5 };
-      a->GetProperty()->GetInformation()->Set(vtkWhittedPass::TRANSMITTANCE(), kt, 3);
+      a->GetProperty()->GetInformation()->Set(vtkWhittedMaterialKeys::TRANSMITTANCE(), kt, 3);
       return a;
     },
     []
@@ -521,7 +521,7 @@ std::vector<Case> Cases()
       auto a = MaterialSphere();
       SetWhitted(a->GetProperty(), 1.0 / 1.5);
       double kt[3] = { 0.0, 0.5 / 1.5, 0.5 / 1.5 };
-      a->GetProperty()->GetInformation()->Set(vtkWhittedPass::TRANSMITTANCE(), kt, 3);
+      a->GetProperty()->GetInformation()->Set(vtkWhittedMaterialKeys::TRANSMITTANCE(), kt, 3);
       return a;
     },
     { "REFLECTANCE, TRANSMITTANCE out of range", "REFLECTANCE + TRANSMITTANCE is above 1" } });

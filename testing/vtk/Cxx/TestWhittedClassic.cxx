@@ -102,7 +102,7 @@ bool CheckMirror(vtkRenderWindow* win, vtkRenderer* ren, vtkWhittedPass* pass,
   const int w = size[0], h = size[1];
   vtkActor* mirror = scene->GetMirror();
   vtkProperty* mp = mirror->GetProperty();
-  const double kr = mp->GetInformation()->Get(vtkWhittedPass::REFLECTANCE())[0];
+  const double kr = mp->GetInformation()->Get(vtkWhittedMaterialKeys::REFLECTANCE())[0];
   const std::vector<unsigned char> traced = GrabPixels(win);
 
   // Traced with the mirror's own colour off: only the reflected light

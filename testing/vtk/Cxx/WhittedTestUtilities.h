@@ -28,6 +28,7 @@
 #include "vtkUnsignedCharArray.h"
 #include "vtkWhittedClassicScene.h"
 #include "vtkWhittedFrameStatistics.h"
+#include "vtkWhittedMaterialKeys.h"
 #include "vtkWhittedPass.h"
 #include "vtkWindowToImageFilter.h"
 
@@ -85,22 +86,22 @@ inline void SetWhitted(vtkProperty* p, double kr, double kt = -1.0, double ior =
 {
   if (kr >= 0.0)
   {
-    p->GetInformation()->Set(vtkWhittedPass::REFLECTANCE(), &kr, 1);
+    p->GetInformation()->Set(vtkWhittedMaterialKeys::REFLECTANCE(), &kr, 1);
   }
   if (kt >= 0.0)
   {
-    p->GetInformation()->Set(vtkWhittedPass::TRANSMITTANCE(), &kt, 1);
+    p->GetInformation()->Set(vtkWhittedMaterialKeys::TRANSMITTANCE(), &kt, 1);
   }
   if (ior > 0.0)
   {
-    p->GetInformation()->Set(vtkWhittedPass::INDEX_OF_REFRACTION(), ior);
+    p->GetInformation()->Set(vtkWhittedMaterialKeys::INDEX_OF_REFRACTION(), ior);
   }
 }
 
 inline void SetTransmittance(vtkProperty* p, double r, double g, double b)
 {
   double kt[3] = { r, g, b };
-  p->GetInformation()->Set(vtkWhittedPass::TRANSMITTANCE(), kt, 3);
+  p->GetInformation()->Set(vtkWhittedMaterialKeys::TRANSMITTANCE(), kt, 3);
 }
 
 /// A plane whose cells alternate between two RGB colours (direct unsigned-char cell scalars).

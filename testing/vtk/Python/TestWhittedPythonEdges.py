@@ -24,7 +24,7 @@ from vtkmodules.vtkRenderingCore import (vtkActor, vtkLight, vtkPolyDataMapper, 
                                          vtkRenderWindow)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
 from vtkmodules.util.misc import calldata_type
-from whitted import vtkWhittedPass
+from whitted import vtkWhittedMaterialKeys, vtkWhittedPass
 from whitted_imagetest import (apply_test_switches, check_against_raster, check_baseline, edge_mask, grab, near,
                                offscreen_render)
 
@@ -159,7 +159,7 @@ class TestWhittedPythonEdges(Testing.vtkTest):
         floor = plane_source((-2, -2, 0), (2, -2, 0), (-2, 2, 0), 6)
         ren.AddActor(edged(actor_of(floor, (0.8, 0.8, 0.8)), 1, (0.6, 0, 0)))
         m = actor_of(plane_source((-2, 1.5, 0), (2, 1.5, 0), (-2, 1.5, 2)), (0.1, 0.1, 0.1))
-        m.GetProperty().GetInformation().Set(vtkWhittedPass.REFLECTANCE(), [0.85], 1)
+        m.GetProperty().GetInformation().Set(vtkWhittedMaterialKeys.REFLECTANCE(), [0.85], 1)
         ren.AddActor(m)
         # A PBR copper sphere (smooth metal: a coloured mirror) and a bowl whose inside has its own colour
         copper = actor_of(sphere_source((-1.25, -0.35, 0.35), 0.35, 32, 16), (0.95, 0.64, 0.54))
@@ -285,7 +285,7 @@ class TestWhittedPythonEdges(Testing.vtkTest):
         pbr_warnings = [w for w in warnings if "PBR" in w]
         print("PBR warnings:", pbr_warnings)
         self.assertEqual(len(pbr_warnings), 1)
-        gold_keys = traced(lambda p: p.GetInformation().Set(vtkWhittedPass.REFLECTANCE(), [1.0, 0.71, 0.29], 3))
+        gold_keys = traced(lambda p: p.GetInformation().Set(vtkWhittedMaterialKeys.REFLECTANCE(), [1.0, 0.71, 0.29], 3))
         self.assertEqual(np.abs(gold_pbr - gold_keys).max(), 0)
         centre = gold_pbr[60, 60]
         print("metallic 1, roughness 0: centre pixel", centre)

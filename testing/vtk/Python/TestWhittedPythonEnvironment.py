@@ -18,7 +18,7 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkFiltersSources import vtkPlaneSource
 from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer, vtkSkybox, vtkTexture
 from vtkmodules.util.numpy_support import numpy_to_vtk
-from whitted import vtkWhittedPass
+from whitted import vtkWhittedMaterialKeys, vtkWhittedPass
 from whitted_imagetest import offscreen_render
 
 SIZE = 200
@@ -65,7 +65,7 @@ def mirror_scene(ren):
     p.SetAmbient(0)
     p.SetDiffuse(0)
     p.SetSpecular(0)
-    p.GetInformation().Set(vtkWhittedPass.REFLECTANCE(), [1.0], 1)
+    p.GetInformation().Set(vtkWhittedMaterialKeys.REFLECTANCE(), [1.0], 1)
     ren.AddActor(mirror)
     camera = ren.GetActiveCamera()
     camera.SetPosition(0, 0.3, 4)

@@ -26,7 +26,7 @@ from vtkmodules.vtkRenderingCore import (vtkActor, vtkLight, vtkPolyDataMapper, 
                                          vtkWindowToImageFilter)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from whitted import vtkWhittedPass
+from whitted import vtkWhittedMaterialKeys, vtkWhittedPass
 
 failures = []
 
@@ -45,7 +45,7 @@ def actor(ren, source, color, kr=None):
     a.GetProperty().SetColor(*color)
     a.GetProperty().SetSpecular(0.3)
     if kr is not None:
-        a.GetProperty().GetInformation().Set(vtkWhittedPass.REFLECTANCE(), [kr], 1)
+        a.GetProperty().GetInformation().Set(vtkWhittedMaterialKeys.REFLECTANCE(), [kr], 1)
     ren.AddActor(a)
 
 

@@ -25,7 +25,7 @@ import numpy as np
 from vtkmodules.vtkCommonCore import vtkCommand
 from vtkmodules.vtkFiltersSources import vtkCubeSource, vtkPlaneSource
 from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer
-from whitted import vtkWhittedMaterialLibrary, vtkWhittedPass
+from whitted import vtkWhittedMaterialKeys, vtkWhittedMaterialLibrary, vtkWhittedPass
 from whitted_imagetest import offscreen_render
 
 SIZE = 120
@@ -61,7 +61,7 @@ def quad(origin, p1, p2, color=(1, 1, 1), lit=True):
 def set_keys(prop, **keys):
     info = prop.GetInformation()
     for name, value in keys.items():
-        key = getattr(vtkWhittedPass, name)()
+        key = getattr(vtkWhittedMaterialKeys, name)()
         if isinstance(value, (int, float)):
             info.Set(key, float(value))
         else:
@@ -162,11 +162,11 @@ def keys_of(prop):
     info = prop.GetInformation()
     out = {}
     for name in ("REFLECTANCE", "TRANSMITTANCE", "ATTENUATION_COLOR"):
-        key = getattr(vtkWhittedPass, name)()
+        key = getattr(vtkWhittedMaterialKeys, name)()
         if info.Has(key):
             out[name] = [round(info.Get(key, i), 6) for i in range(info.Length(key))]
     for name in ("INDEX_OF_REFRACTION", "ATTENUATION_DISTANCE"):
-        key = getattr(vtkWhittedPass, name)()
+        key = getattr(vtkWhittedMaterialKeys, name)()
         if info.Has(key):
             out[name] = round(info.Get(key), 6)
     return out

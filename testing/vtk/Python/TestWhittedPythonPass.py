@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""vtkWhittedPass from Python: settings, Whitted keys, the last frame's statistics and report, rebuild counts
+"""vtkWhittedPass from Python: settings, Whitted keys (vtkWhittedMaterialKeys, and the same keys through
+vtkWhittedPass's older spelling), the last frame's statistics and report, rebuild counts
 (camera and light changes rebuild nothing), Start/Progress/End events, hardware picking, transparent misses
 (layers, alpha), tiled screenshots, concave polygons."""
 from vtkmodules.test import Testing
@@ -11,7 +12,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkRenderingCore import (vtkActor, vtkCoordinate, vtkPolyDataMapper, vtkPropPicker,
                                          vtkRenderer, vtkRenderWindow, vtkWindowToImageFilter)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
-from whitted import vtkWhittedPass
+from whitted import vtkWhittedMaterialKeys, vtkWhittedPass
 from whitted.scenes import classic_scene, set_whitted
 
 
@@ -45,10 +46,28 @@ class TestWhittedPythonPass(Testing.vtkTest):
         actor = vtkActor()
         set_whitted(actor.GetProperty(), reflectance=(0.2, 0.4, 0.6), transmittance=0.5, ior=1.33)
         info = actor.GetProperty().GetInformation()
-        self.assertEqual(info.Length(vtkWhittedPass.REFLECTANCE()), 3)
-        self.assertAlmostEqual(info.Get(vtkWhittedPass.REFLECTANCE(), 1), 0.4)
-        self.assertAlmostEqual(info.Get(vtkWhittedPass.TRANSMITTANCE(), 0), 0.5)
-        self.assertAlmostEqual(info.Get(vtkWhittedPass.INDEX_OF_REFRACTION()), 1.33)
+        self.assertEqual(info.Length(vtkWhittedMaterialKeys.REFLECTANCE()), 3)
+        self.assertAlmostEqual(info.Get(vtkWhittedMaterialKeys.REFLECTANCE(), 1), 0.4)
+        self.assertAlmostEqual(info.Get(vtkWhittedMaterialKeys.TRANSMITTANCE(), 0), 0.5)
+        self.assertAlmostEqual(info.Get(vtkWhittedMaterialKeys.INDEX_OF_REFRACTION()), 1.33)
+
+    def testKeysCompatibility(self):
+        """The older spelling vtkWhittedPass.KEY() returns the very same key objects as vtkWhittedMaterialKeys:
+        a key set through one is read through the other."""
+        names = ("REFLECTANCE", "TRANSMITTANCE", "INDEX_OF_REFRACTION", "ATTENUATION_COLOR", "ATTENUATION_DISTANCE",
+                 "RADIUS_ARRAY", "RADIUS_FUNCTION")
+        for name in names:
+            key, old = getattr(vtkWhittedMaterialKeys, name)(), getattr(vtkWhittedPass, name)()
+            self.assertIs(old, key, name)
+            self.assertEqual(old.GetAddressAsString("vtkObjectBase"), key.GetAddressAsString("vtkObjectBase"))
+            self.assertEqual(key.GetName(), name)
+        info = vtkActor().GetProperty().GetInformation()
+        info.Set(vtkWhittedPass.REFLECTANCE(), [0.2, 0.4, 0.6], 3)
+        info.Set(vtkWhittedPass.INDEX_OF_REFRACTION(), 1.33)
+        info.Set(vtkWhittedMaterialKeys.RADIUS_ARRAY(), "r")
+        self.assertAlmostEqual(info.Get(vtkWhittedMaterialKeys.REFLECTANCE(), 2), 0.6)
+        self.assertAlmostEqual(info.Get(vtkWhittedMaterialKeys.INDEX_OF_REFRACTION()), 1.33)
+        self.assertEqual(info.Get(vtkWhittedPass.RADIUS_ARRAY()), "r")
 
     def testStatisticsAndCaching(self):
         renderer, window = make_window()

@@ -5,7 +5,7 @@
   coloured by the mapper's scalars. Checked against an independent reference: the same spheres built here as
   finely tessellated vtkSphereSource actors (radius and colour computed in this script from the function and
   the lookup table) drawn by VTK's OpenGL: silhouettes, depth and colours agree.
-- vtkWhittedPass.RADIUS_ARRAY / RADIUS_FUNCTION on a points-as-spheres actor: the same reference.
+- vtkWhittedMaterialKeys.RADIUS_ARRAY / RADIUS_FUNCTION on a points-as-spheres actor: the same reference.
 - Lines as tubes with RADIUS_ARRAY: looking straight at a polyline, each segment's width in pixels is twice the
   mean of its end points' radii.
 - Effects: splats and tubes cast shadows (floor darker than without shadows) and the image with shadows and a
@@ -19,7 +19,7 @@ from vtkmodules.vtkFiltersSources import vtkSphereSource
 from vtkmodules.vtkRenderingCore import (vtkActor, vtkPointGaussianMapper, vtkPolyDataMapper,
                                          vtkRenderer, vtkRenderWindow)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
-from whitted import vtkWhittedPass
+from whitted import vtkWhittedMaterialKeys, vtkWhittedPass
 from whitted_imagetest import (apply_test_switches, check_against_raster, check_baseline, grab_with_depth,
                                light_and_camera, quad_actor)
 
@@ -99,8 +99,8 @@ def radius_key_actor():
     actor.GetProperty().SetRenderPointsAsSpheres(True)
     actor.GetProperty().SetPointSize(4)  # ignored: the radius array decides
     info = actor.GetProperty().GetInformation()
-    info.Set(vtkWhittedPass.RADIUS_ARRAY(), "size")
-    info.Set(vtkWhittedPass.RADIUS_FUNCTION(), scale_function())
+    info.Set(vtkWhittedMaterialKeys.RADIUS_ARRAY(), "size")
+    info.Set(vtkWhittedMaterialKeys.RADIUS_FUNCTION(), scale_function())
     actor.SetScale(FACTOR)  # the radius key gives data units: the actor scale applies
     return actor
 
@@ -203,7 +203,7 @@ class TestWhittedPythonRadii(Testing.vtkTest):
         actor = vtkActor()
         actor.SetMapper(mapper)
         actor.GetProperty().SetRenderLinesAsTubes(True)
-        actor.GetProperty().GetInformation().Set(vtkWhittedPass.RADIUS_ARRAY(), "r")
+        actor.GetProperty().GetInformation().Set(vtkWhittedMaterialKeys.RADIUS_ARRAY(), "r")
         ren = vtkRenderer()
         ren.AddActor(actor)
         cam = ren.GetActiveCamera()

@@ -20,7 +20,7 @@ from vtkmodules.vtkCommonCore import vtkFloatArray
 from vtkmodules.vtkFiltersSources import vtkPlaneSource, vtkSphereSource
 from vtkmodules.vtkRenderingCore import vtkActor, vtkLight, vtkPolyDataMapper, vtkRenderer
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from whitted import vtkWhittedPass
+from whitted import vtkWhittedMaterialKeys, vtkWhittedPass
 from whitted_imagetest import offscreen_render
 
 LIGHT_BLUE = (0.55, 0.75, 0.95)
@@ -51,11 +51,11 @@ def sphere_actor(ren, center, radius, color, opacity=1.0, kr=None, kt=None, ior=
     p.SetSpecularPower(20)
     info = p.GetInformation()
     if kr is not None:
-        info.Set(vtkWhittedPass.REFLECTANCE(), [kr], 1)
+        info.Set(vtkWhittedMaterialKeys.REFLECTANCE(), [kr], 1)
     if kt is not None:
-        info.Set(vtkWhittedPass.TRANSMITTANCE(), [kt], 1)
+        info.Set(vtkWhittedMaterialKeys.TRANSMITTANCE(), [kt], 1)
     if ior is not None:
-        info.Set(vtkWhittedPass.INDEX_OF_REFRACTION(), ior)
+        info.Set(vtkWhittedMaterialKeys.INDEX_OF_REFRACTION(), ior)
     ren.AddActor(actor)
     return actor
 

@@ -79,9 +79,9 @@ def quad_actor(origin, point1, point2, color, reflectance=None):
     actor.SetMapper(mapper)
     actor.GetProperty().SetColor(*color)
     if reflectance is not None:
-        from whitted import vtkWhittedPass
+        from whitted import vtkWhittedMaterialKeys
 
-        actor.GetProperty().GetInformation().Set(vtkWhittedPass.REFLECTANCE(), [reflectance], 1)
+        actor.GetProperty().GetInformation().Set(vtkWhittedMaterialKeys.REFLECTANCE(), [reflectance], 1)
     return actor
 
 
