@@ -79,13 +79,13 @@ std::shared_ptr<ThreadPool::Batch> ThreadPool::post(uint32_t jobs, int seats, bo
   b->f = &f;
   b->jobs = b->target = jobs;
   b->oneEach = oneEach;
-  b->seats = std::min(seats, workers());
-  if (b->seats <= 0) return b;
+  seats = b->seats = std::min(seats, workers());  // b->seats belongs to the workers once posted
+  if (seats <= 0) return b;
   {
     std::lock_guard<std::mutex> lock(m_);
     open_.push_back(b);
   }
-  for (int i = 0; i < b->seats; ++i) wake_.notify_one();
+  for (int i = 0; i < seats; ++i) wake_.notify_one();
   return b;
 }
 
