@@ -17,6 +17,10 @@ foreach(test
     Scene.BackgroundUpgradeOfReplacedGeometryIsDropped
     Bvh.ParallelBuildKeepsInvariantsAndIsDeterministic
     Bvh.ParallelBuildOfSinglePrimitiveLeaves
-    Bvh.CancelledBuildLeavesAnEmptyTree)
+    Bvh.CancelledBuildLeavesAnEmptyTree
+    ThreadPool.EveryJobRunsOnceOnAtMostTheRequestedThreads
+    ThreadPool.JobExceptionIsRethrownAfterEveryJobRan
+    ThreadPool.NestedUseDoesNotDeadlock
+    ThreadPool.ConcurrentUseFromTwoThreads)
   set_tests_properties(${test} PROPERTIES LABELS "core;timing")
 endforeach()

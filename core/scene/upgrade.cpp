@@ -40,6 +40,9 @@ struct Scene::Upgrade {
   std::atomic<bool> cancel{false};  // stop building: the trees are not wanted (finished then stays false)
   bool hasHook = false;             // a test's hook: the build is always waited for, never left to itself
   int commits = 0;  ///< Commits since it (or the build it restarts) started (the scene's thread only).
+  // A thread of its own, not the shared pool's (util/parallel.h): it runs at idle priority and may be raised back,
+  // restarted or waited for, and a pool worker lowered to SCHED_IDLE would carry that into the next frame's tiles.
+  // It builds with one thread, so it never uses the pool either.
   std::thread thread;
 
   void run(const std::vector<Object>& objects, const std::function<void()>& hook) {

@@ -1,15 +1,15 @@
-// A fixed pool of worker threads for the parallel passes of builds and conversions: results never depend on the
-// thread count (work is split in fixed chunks; see forChunks).
+// The process's one thread pool (sharedPool: started on first use, its workers sleep between passes) and the two
+// ways the core uses it: WorkerPool, the parallel passes of builds and conversions, whose results never depend on
+// the thread count (work is split in fixed chunks; see forChunks); and ThreadPool::alongside, the tile scheduler's
+// worker loops beside the calling thread's.
 #pragma once
 
 #include <algorithm>
-#include <atomic>
 #include <condition_variable>
 #include <cstdint>
-#include <exception>
 #include <functional>
+#include <memory>
 #include <mutex>
-#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -35,105 +35,69 @@ inline int hardwareThreads() {
   return std::max(1u, std::thread::hardware_concurrency());
 }
 
-/// A fixed set of threads for the duration of one build (or one object rebuild, one conversion); run() hands out job
-/// indices and returns when every job has finished. It waits for jobs, not for workers: a worker that has not woken up
-/// by the time the calling thread and the others have taken every job is not waited for (on a busy machine a
-/// descheduled worker would otherwise add a time slice to each of the build's many passes: 2.3 s instead of 0.3 s for
-/// 1M triangles at load 10). Job indices carry the pass's number, so a worker that wakes late can never take a later
-/// pass's index for an earlier pass's job.
-class WorkerPool {
+/// A fixed set of worker threads that sleep on a condition variable until a pass is posted. The calling thread of
+/// a pass always takes part, and waits only for the jobs that workers took, never for a worker to wake up: on a
+/// busy machine a descheduled worker would otherwise add a time slice to each of a build's many passes (2.3 s
+/// instead of 0.3 s for 1M triangles at load 10); a job no worker took is run by the caller (run) or not at all
+/// (alongside). Passes may be posted from several threads at once (two scenes rendering) and from inside a job (a
+/// build inside a tile): each is a batch of its own that idle workers join, and its caller can always finish it
+/// alone, so nothing waits for a worker held by another pass.
+class ThreadPool {
  public:
-  explicit WorkerPool(int threads) {
-    try {
-      for (int i = 1; i < threads; ++i) workers_.emplace_back([this] { loop(); });
-    } catch (const std::system_error&) {
-      // No more threads to be had (resource limits): build with the ones started
-    } catch (...) {
-      stop();
-      throw;
-    }
-  }
-  ~WorkerPool() { stop(); }
-  int threads() const { return int(workers_.size()) + 1; }
-  WorkerPool(const WorkerPool&) = delete;
-  WorkerPool& operator=(const WorkerPool&) = delete;
+  /// Starts the workers (fewer if the system refuses more threads; then the passes run on those started). They
+  /// inherit the scheduling priority and CPU affinity of the thread that constructs the pool.
+  explicit ThreadPool(int workers);
+  ~ThreadPool();
+  ThreadPool(const ThreadPool&) = delete;
+  ThreadPool& operator=(const ThreadPool&) = delete;
+  int workers() const { return int(workers_.size()); }
 
-  /// Calls f(0) .. f(jobs - 1) on the workers and the calling thread, in any order; returns when all returned.
-  /// The first exception a job threw (std::bad_alloc) is rethrown here.
-  void run(uint32_t jobs, const std::function<void(uint32_t)>& f) {
-    if (workers_.empty() || jobs <= 1) {
-      for (uint32_t j = 0; j < jobs; ++j) f(j);
-      return;
-    }
-    uint32_t pass;
-    {
-      std::lock_guard<std::mutex> lock(m_);
-      job_ = &f;
-      jobs_ = jobs;
-      finished_ = 0;
-      error_ = nullptr;
-      pass = ++pass_;
-      next_.store(uint64_t(pass) << 32);
-    }
-    wake_.notify_all();
-    work(pass, &f, jobs);
-    std::unique_lock<std::mutex> lock(m_);
-    done_.wait(lock, [&] { return finished_ == jobs; });
-    if (error_) std::rethrow_exception(error_);
-  }
+  /// Calls f(0) .. f(jobs - 1), in any order, on the calling thread and at most threads - 1 workers; returns when
+  /// all returned. The first exception a job threw (std::bad_alloc) is rethrown here, after every job ran.
+  void run(uint32_t jobs, int threads, const std::function<void(uint32_t)>& f);
+
+  /// Calls mine() on the calling thread while up to helpers workers each call helper(k) once (distinct k in
+  /// [0, helpers)); a helper call that no worker has started when mine() returns never starts. Returns when mine()
+  /// and every helper call started have returned; the first exception one of them threw is then rethrown.
+  void alongside(int helpers, const std::function<void(uint32_t)>& helper, const std::function<void()>& mine);
 
  private:
-  /// Takes and runs jobs of the given pass until none is left.
-  void work(uint32_t pass, const std::function<void(uint32_t)>* f, uint32_t jobs) {
-    for (;;) {
-      uint64_t v = next_.load();
-      do {
-        if (uint32_t(v >> 32) != pass || uint32_t(v) >= jobs) return;
-      } while (!next_.compare_exchange_weak(v, v + 1));
-      try {
-        (*f)(uint32_t(v));
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(m_);
-        if (!error_) error_ = std::current_exception();
-      }
-      std::lock_guard<std::mutex> lock(m_);
-      if (++finished_ == jobs) done_.notify_one();
-    }
-  }
-  void loop() {
-    uint32_t seen = 0;
-    for (;;) {
-      const std::function<void(uint32_t)>* f;
-      uint32_t pass, jobs;
-      {
-        std::unique_lock<std::mutex> lock(m_);
-        wake_.wait(lock, [&] { return stop_ || pass_ != seen; });
-        if (stop_) return;
-        seen = pass = pass_;
-        f = job_;
-        jobs = jobs_;
-      }
-      work(pass, f, jobs);  // *f is called only for a job taken while its pass runs: run() waits for that job
-    }
-  }
-  void stop() {
-    {
-      std::lock_guard<std::mutex> lock(m_);
-      stop_ = true;
-    }
-    wake_.notify_all();
-    for (std::thread& t : workers_) t.join();
-    workers_.clear();
-  }
+  struct Batch;
+  void loop();
+  std::shared_ptr<Batch> post(uint32_t jobs, int seats, bool oneEach, const std::function<void(uint32_t)>& f);
+  void finish(const std::shared_ptr<Batch>& b);
 
   std::vector<std::thread> workers_;
   std::mutex m_;
-  std::condition_variable wake_, done_;
-  const std::function<void(uint32_t)>* job_ = nullptr;
-  uint32_t jobs_ = 0, finished_ = 0, pass_ = 0;
-  std::atomic<uint64_t> next_{0};  ///< pass << 32 | next job index
-  bool stop_ = false;
-  std::exception_ptr error_;
+  std::condition_variable wake_;
+  std::vector<std::shared_ptr<Batch>> open_;  ///< batches that workers may still join (guarded by m_)
+  bool stop_ = false;                         ///< guarded by m_
+};
+
+/// The process's pool: hardwareThreads() - 1 workers (the calling thread is the last one), started on first use.
+ThreadPool& sharedPool();
+
+/// The thread count of one build (or one object rebuild, one conversion): run() runs its passes on at most that many
+/// threads of the shared pool, the calling thread included. Cheap to make; with one thread nothing touches the pool
+/// (the background upgrade builds that way at idle priority, and its priority must not reach the pool's workers).
+class WorkerPool {
+ public:
+  explicit WorkerPool(int threads) : threads_(std::max(1, threads)) {}
+  /// The requested count (passes split work by it; at most the pool's workers + 1 take jobs).
+  int threads() const { return threads_; }
+
+  /// Calls f(0) .. f(jobs - 1) on up to threads() threads, the calling one included, in any order; returns when all
+  /// returned. The first exception a job threw (std::bad_alloc) is rethrown here.
+  void run(uint32_t jobs, const std::function<void(uint32_t)>& f) {
+    if (threads_ <= 1 || jobs <= 1) {
+      for (uint32_t j = 0; j < jobs; ++j) f(j);
+      return;
+    }
+    sharedPool().run(jobs, threads_, f);
+  }
+
+ private:
+  int threads_;
 };
 
 /// Calls fn(begin, end) for the pieces [k chunk, (k+1) chunk) of [0, n) on the pool's threads. The pieces do not

@@ -1,10 +1,11 @@
 #include "util/tile_scheduler.h"
 
+#include "util/parallel.h"
+
 #include <algorithm>
 #include <exception>
 #include <mutex>
 #include <thread>
-#include <vector>
 
 namespace whitted {
 
@@ -76,16 +77,29 @@ void TileScheduler::run(std::size_t tiles, const std::function<void(int)>& tileF
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
   };
-  std::vector<std::thread> pool;
+  // The calling thread's loop beside threads_ - 1 worker loops on the shared pool's threads (fewer if it has fewer
+  // idle workers: the slots a tile gets do not depend on it). An exception in the calling thread's loop (a callback:
+  // a VTK observer) aborts at once, so the workers stop taking tiles; it is rethrown after they finished.
+  auto onCaller = [&] {
+    try {
+      worker(true);
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(errorMutex);
+      if (!error) error = std::current_exception();
+      abortFlag = true;
+    }
+  };
+  const int helpers = total == 0 ? 0 : int(std::min<std::size_t>(std::size_t(threads_ - 1), total - 1));
   try {
-    for (int t = 1; t < threads_ && std::size_t(t) < total; ++t) pool.emplace_back(worker, false);
-    worker(true);  // the callbacks may throw too (a VTK observer): caught below after stopping the workers
-  } catch (...) {
+    if (helpers > 0)
+      sharedPool().alongside(helpers, [&](uint32_t) { worker(false); }, onCaller);
+    else
+      onCaller();
+  } catch (...) {  // the pool could not post the pass (std::bad_alloc)
     std::lock_guard<std::mutex> lock(errorMutex);
     if (!error) error = std::current_exception();
     abortFlag = true;
   }
-  for (auto& th : pool) th.join();
   aborted_ = abortFlag.load();
   if (error) std::rethrow_exception(error);
 }

@@ -1,5 +1,5 @@
-// Tile scheduler: runs the passes of a frame over its tile slots on a fixed number of threads, each thread taking
-// the next slot from a shared counter. The caller's abort check and progress run on the calling thread between
+// Tile scheduler: runs the passes of a frame over its tile slots on a fixed number of threads (the calling one and
+// workers of the shared pool, util/parallel.h), each thread taking the next slot from a shared counter. The caller's abort check and progress run on the calling thread between
 // tiles (VTK's must run on the GL thread); a deadline and a time slice stop new tiles from starting; a test can
 // ask for a deterministic abort. Which slot a tile function gets never depends on the thread count, so results
 // kept per slot are the same for any thread count.
@@ -17,8 +17,9 @@ class TileScheduler {
  public:
   using Clock = std::chrono::steady_clock;
 
-  /// threads: threads per pass, the calling thread included (at least 1). abortCheck (true = abort) and progress
-  /// (fraction done) are called on the calling thread between tiles and may be empty; both are kept by reference.
+  /// threads: threads per pass, the calling thread included (at least 1; at most the shared pool's workers + 1
+  /// run). abortCheck (true = abort) and progress (fraction done) are called on the calling thread between tiles
+  /// and may be empty; both are kept by reference.
   /// abortAfterTiles: testing, a deterministic abort: a pass that checks for aborts aborts when a thread would
   /// start slot abortAfterTiles, so exactly slots 0..abortAfterTiles-1 run; -1: never.
   TileScheduler(int threads, const std::function<bool()>& abortCheck, const std::function<void(double)>& progress,
