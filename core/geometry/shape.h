@@ -69,4 +69,19 @@ bool sameBits(const std::vector<T, A>& a, const std::vector<T, A>& b) {
   return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
+/// The limited test of a shape's leaf tester (Tester::hit, what the traversal's leaf loops call) for testers
+/// whose test is operator()(slot, ray) returning std::optional<PrimHit>: derive the Tester from
+/// LimitedHit<Tester>. Triangles define their own, inline.
+template <typename Tester>
+struct LimitedHit {
+  /// The test of slot on r limited to tMax: true and h set on a hit.
+  bool hit(uint32_t slot, const Ray& r, double tMax, PrimHit& h) const {
+    Ray limited = r;
+    limited.tMax = tMax;
+    const std::optional<PrimHit> found = static_cast<const Tester&>(*this)(slot, limited);
+    if (found) h = *found;
+    return found.has_value();
+  }
+};
+
 }  // namespace whitted

@@ -36,20 +36,12 @@ struct SphereShape {
   static std::size_t bytes(const SphereSet& s) { return s.centers.capacity() * sizeof(Vec3); }
 
   /// Leaf tests of one object visit: slot -> sphere through leafPrims.
-  class Tester {
+  class Tester : public LimitedHit<Tester> {
    public:
     Tester(const SphereSet& s, const uint32_t* leafPrims, const Ray&) : set_(s), leafPrims_(leafPrims) {}
     std::optional<PrimHit> operator()(uint32_t slot, const Ray& r) const {
       const uint32_t p = leafPrims_[slot];
       return intersectSphere(r, set_.centers[p], radiusAt(set_.radii, p));
-    }
-    /// The test of slot on r limited to tMax: true and h set on a hit (the traversal's leaf loops).
-    bool hit(uint32_t slot, const Ray& r, double tMax, PrimHit& h) const {
-      Ray limited = r;
-      limited.tMax = tMax;
-      const std::optional<PrimHit> found = (*this)(slot, limited);
-      if (found) h = *found;
-      return found.has_value();
     }
 
    private:

@@ -41,20 +41,12 @@ struct TubeShape {
   static std::size_t bytes(const TubeSet& c) { return c.p0.capacity() * 2 * sizeof(Vec3); }
 
   /// Leaf tests of one object visit: slot -> tube through leafPrims.
-  class Tester {
+  class Tester : public LimitedHit<Tester> {
    public:
     Tester(const TubeSet& c, const uint32_t* leafPrims, const Ray&) : set_(c), leafPrims_(leafPrims) {}
     std::optional<PrimHit> operator()(uint32_t slot, const Ray& r) const {
       const uint32_t p = leafPrims_[slot];
       return intersectTube(r, set_.p0[p], set_.p1[p], radiusAt(set_.radii, p));
-    }
-    /// The test of slot on r limited to tMax: true and h set on a hit (the traversal's leaf loops).
-    bool hit(uint32_t slot, const Ray& r, double tMax, PrimHit& h) const {
-      Ray limited = r;
-      limited.tMax = tMax;
-      const std::optional<PrimHit> found = (*this)(slot, limited);
-      if (found) h = *found;
-      return found.has_value();
     }
 
    private:
