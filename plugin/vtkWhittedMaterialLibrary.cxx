@@ -10,6 +10,8 @@
 #include "vtkProperty.h"
 #include "vtk_jsoncpp.h"
 
+#include "scene/material.h" // for whitted::metallicReflectance
+
 #include <array>
 #include <cmath>
 #include <fstream>
@@ -363,14 +365,11 @@ bool vtkWhittedMaterialLibrary::ApplyMaterial(const char* name, vtkProperty* pro
   else if (type == "principled")
   {
     const RGB base = f.Color("baseColor", { 0.8, 0.8, 0.8 });
-    const double metallic = f.Scalar("metallic", 0.0);
     const double transmission = f.Scalar("transmission", 0.0);
     property->SetDiffuseColor(base[0], base[1], base[2]);
-    k.HasReflectance = metallic > 0.0;
-    for (int i = 0; i < 3; ++i)
-    {
-      k.Reflectance[i] = metallic * base[i];
-    }
+    whitted::metallicReflectance(base.data(), f.Scalar("metallic", 0.0), f.Scalar("roughness", 0.0),
+      f.Scalar("ior", 1.5), k.Reflectance.data());
+    k.HasReflectance = k.Reflectance[0] > 0.0 || k.Reflectance[1] > 0.0 || k.Reflectance[2] > 0.0;
     k.HasTransmittance = transmission > 0.0;
     k.Transmittance = { transmission, transmission, transmission };
     k.IndexOfRefraction = f.Scalar("ior", 1.5);

@@ -30,12 +30,14 @@
  * - metal: eta, k (RGB complex index, default aluminium (1.5, 0.98, 0.6), (7.6, 6.6, 5.4)) ->
  *   REFLECTANCE = the normal-incidence reflectance ((n-1)^2 + k^2) / ((n+1)^2 + k^2).
  * - alloy: color -> REFLECTANCE (default 0.9).
- * - principled: baseColor -> DiffuseColor, metallic m -> REFLECTANCE = m x baseColor,
+ * - principled: baseColor -> DiffuseColor; metallic m, roughness r, ior -> REFLECTANCE =
+ *   (1 - r) x (m x baseColor + (1 - m) x F0(ior)), the rule of VTK's PBR interpolation
+ *   (whitted::metallicReflectance),
  *   transmission -> TRANSMITTANCE, ior -> INDEX_OF_REFRACTION, transmissionColor,
  *   transmissionDepth -> ATTENUATION_COLOR, ATTENUATION_DISTANCE.
  * - obj (OBJMaterial): Kd -> DiffuseColor, Ks -> SpecularColor (and Specular 1), Ns ->
  *   SpecularPower, d -> Opacity, Tf -> TRANSMITTANCE.
- * Roughness and other fields of a rough or layered model have no Whitted equivalent.
+ * Other roughness fields and those of a layered model have no Whitted equivalent.
  *
  * @sa vtkWhittedMaterialKeys vtkWhittedPass vtkOSPRayMaterialLibrary
  */

@@ -81,22 +81,18 @@ void ReadSurfaceTerms(vtkProperty* p, whitted::Material& m)
 }
 
 // PBR interpolation as a Whitted material (see plugin/README.md, "PBR interpolation"): base colour
-// (Color) -> diffuse colour; metallic and roughness -> reflectance
-// (1 - Roughness) x (Metallic x base colour + (1 - Metallic) x F0), F0 the dielectric normal-incidence
-// reflectance of BaseIOR; EmissiveFactor -> ambient term, only where VTK shows emission (an
+// (Color) -> diffuse colour; Metallic, Roughness and BaseIOR -> reflectance by whitted::metallicReflectance
+// (the rule the principled library material uses too); EmissiveFactor -> ambient term, only where VTK shows emission (an
 // emissive texture; its texels are not sampled). A REFLECTANCE key wins over the mapping.
 void MapPBR(vtkProperty* p, whitted::Material& m)
 {
-  const double metallic = std::clamp(p->GetMetallic(), 0.0, 1.0);
-  const double roughness = std::clamp(p->GetRoughness(), 0.0, 1.0);
-  const double n = p->GetBaseIOR();
-  const double f0 = std::isfinite(n) && n > 0.0 ? ((n - 1.0) / (n + 1.0)) * ((n - 1.0) / (n + 1.0)) : 0.04;
   double base[3];
   p->GetColor(base);
+  double reflectance[3];
+  whitted::metallicReflectance(base, p->GetMetallic(), p->GetRoughness(), p->GetBaseIOR(), reflectance);
   for (int i = 0; i < 3; ++i)
   {
-    m.reflectance[i] =
-      static_cast<float>((1.0 - roughness) * (metallic * base[i] + (1.0 - metallic) * f0));
+    m.reflectance[i] = static_cast<float>(reflectance[i]);
   }
   if (p->GetTexture("emissiveTex"))
   {

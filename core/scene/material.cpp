@@ -19,6 +19,13 @@ float absorptionFromAttenuation(double kept, double distance) {
   return float(std::isnan(a) ? a : std::min(a, double(kMaxAbsorption)));
 }
 
+void metallicReflectance(const double base[3], double metallic, double roughness, double ior, double out[3]) {
+  metallic = std::clamp(metallic, 0.0, 1.0);
+  roughness = std::clamp(roughness, 0.0, 1.0);
+  const double f0 = std::isfinite(ior) && ior > 0.0 ? ((ior - 1.0) / (ior + 1.0)) * ((ior - 1.0) / (ior + 1.0)) : 0.04;
+  for (int i = 0; i < 3; ++i) out[i] = (1.0 - roughness) * (metallic * base[i] + (1.0 - metallic) * f0);
+}
+
 bool sanitizeOpacity(float& opacity) {
   return sanitizeValue(opacity, 0.0f, 1.0f, 1.0f, 1u) != 0;
 }

@@ -92,6 +92,14 @@ constexpr float kMaxAbsorption = 1e30f;
 /// (negative or NaN) that sanitizeMaterial clamps to 0 and reports (bit 7).
 float absorptionFromAttenuation(double kept, double distance);
 
+/// The one metallic -> reflectance rule, used by VTK's PBR interpolation (vtkProperty Metallic, Roughness, BaseIOR)
+/// and by OSPRay's "principled" library material (metallic, roughness, ior): a smooth surface mirrors with
+///   (1 - roughness) x (metallic x base + (1 - metallic) x F0),   F0 = ((n - 1) / (n + 1))^2,
+/// F0 the dielectric normal-incidence reflectance of index n (0.04, that of n = 1.5, when n is not a positive
+/// finite number). A Whitted mirror cannot blur, so roughness fades the mirror image out linearly instead.
+/// metallic and roughness are clamped to [0, 1]; out is in double so that material keys keep it unrounded.
+void metallicReflectance(const double base[3], double metallic, double roughness, double ior, double out[3]);
+
 /// The opacity rule of sanitizeMaterial: a non-finite opacity becomes 1 (opaque), one outside [0, 1] is clamped.
 /// Returns true if it changed opacity.
 bool sanitizeOpacity(float& opacity);

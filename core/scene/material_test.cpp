@@ -108,3 +108,25 @@ TEST(Material, SanitizeOpacity) {
   EXPECT_TRUE(sanitizeOpacity(o));
   EXPECT_EQ(o, 1.0f);
 }
+
+// The metallic rule at its analytic corners: a smooth metal mirrors its base colour, a smooth dielectric of index
+// 1.5 reflects F0 = (0.5 / 2.5)^2 = 0.04, a fully rough surface nothing; inputs outside [0, 1] are clamped and an
+// index that is no positive number falls back to 0.04.
+TEST(Material, MetallicReflectance) {
+  const double base[3] = {1.0, 0.71, 0.29};
+  double r[3];
+  metallicReflectance(base, 1.0, 0.0, 1.5, r);
+  EXPECT_EQ(r[0], 1.0); EXPECT_EQ(r[1], 0.71); EXPECT_EQ(r[2], 0.29);
+  metallicReflectance(base, 0.0, 0.0, 1.5, r);
+  for (double c : r) EXPECT_NEAR(c, 0.04, 1e-15);
+  metallicReflectance(base, 0.0, 0.0, 2.0, r);
+  for (double c : r) EXPECT_NEAR(c, 1.0 / 9.0, 1e-15);
+  metallicReflectance(base, 0.5, 0.25, 1.5, r);
+  EXPECT_NEAR(r[1], 0.75 * (0.5 * 0.71 + 0.5 * 0.04), 1e-15);
+  metallicReflectance(base, 0.7, 1.0, 1.5, r);
+  for (double c : r) EXPECT_EQ(c, 0.0);
+  metallicReflectance(base, 3.0, -1.0, std::nan(""), r);
+  EXPECT_EQ(r[2], 0.29);
+  metallicReflectance(base, 0.0, 0.0, -1.0, r);
+  for (double c : r) EXPECT_NEAR(c, 0.04, 1e-15);
+}

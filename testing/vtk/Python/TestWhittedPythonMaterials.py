@@ -14,7 +14,7 @@ therefore its exact pixel value.
 - Presets (vtkWhittedMaterialLibrary.ApplyPreset) set every key, None removes them all; the Gold preset renders
   the gold mirror's pixels.
 - An OSPRay material library (JSON): glass, metal (eta, k -> normal-incidence reflectance computed here), alloy,
-  principled and an unmapped type; unused fields are warned about; an alloy mirror renders its colour plus the
+  principled (the PBR interpolation's metallic rule) and an unmapped type; unused fields are warned about; an alloy mirror renders its colour plus the
   share of its own (lit white) colour the energy rule leaves.
 """
 import json
@@ -213,10 +213,13 @@ check(lib.ApplyMaterial("silver", p), "metal applied")
 f0 = [round(((n - 1) ** 2 + k ** 2) / ((n + 1) ** 2 + k ** 2), 6) for n, k in zip((0.15, 0.14, 0.13), (3.7, 3.1, 2.3))]
 check(keys_of(p) == {"REFLECTANCE": f0}, "metal: normal-incidence reflectance %s == %s" % (keys_of(p), f0))
 check(len(warnings) == n_warn + 1, "metal: roughness warned about")
-check(lib.ApplyMaterial("paint", p) and keys_of(p) == {"REFLECTANCE": [0.1, 0.2, 0.3]}
-      and [round(c, 6) for c in p.GetDiffuseColor()] == [0.2, 0.4, 0.6], "principled: metallic x baseColor")
+# principled takes VTK's PBR rule: metallic x baseColor + (1 - metallic) x F0(ior 1.5 = 0.04), x (1 - roughness 0)
+paint = [round(0.5 * b + 0.5 * 0.04, 6) for b in (0.2, 0.4, 0.6)]
+check(lib.ApplyMaterial("paint", p) and keys_of(p) == {"REFLECTANCE": paint}
+      and [round(c, 6) for c in p.GetDiffuseColor()] == [0.2, 0.4, 0.6],
+      "principled: metallic x baseColor + (1 - metallic) x F0: %s == %s" % (keys_of(p), paint))
 check(len(warnings) == n_warn + 2, "principled: sheen warned about")
-check(not lib.ApplyMaterial("lamp", p) and keys_of(p) == {"REFLECTANCE": [0.1, 0.2, 0.3]},
+check(not lib.ApplyMaterial("lamp", p) and keys_of(p) == {"REFLECTANCE": paint},
       "luminous: not applied, property unchanged")
 check(not lib.ReadBuffer('{"family": "other", "materials": {}}'), "not an OSPRay library: refused")
 bronze = mirror()
