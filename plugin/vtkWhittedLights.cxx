@@ -4,9 +4,11 @@
 #include "vtkLightCollection.h"
 #include "vtkRenderer.h"
 
+#include <algorithm>
+
 //------------------------------------------------------------------------------
 vtkWhittedLights::Summary vtkWhittedLights::Convert(
-  vtkRenderer* renderer, std::vector<whitted::Light>& lights)
+  vtkRenderer* renderer, std::vector<whitted::Light>& lights, bool brightestOnly)
 {
   lights.clear();
   // VTK's light complexity, as vtkOpenGLRenderer::UpdateLights computes it: 0 no light on, 1 one
@@ -56,6 +58,25 @@ vtkWhittedLights::Summary vtkWhittedLights::Convert(
     l.exponent = light->GetExponent();
     l.castShadows = light->GetShadowAttenuation() > 0.0f;
     lights.push_back(l);
+  }
+  if (brightestOnly)
+  {
+    whitted::Light* brightest = nullptr;
+    float power = 0.0f;
+    for (whitted::Light& l : lights)
+    {
+      const float p = l.intensity * std::max(l.color.x, std::max(l.color.y, l.color.z));
+      if (l.castShadows && (!brightest || p > power))
+      {
+        brightest = &l;
+        power = p;
+      }
+      l.castShadows = false;
+    }
+    if (brightest)
+    {
+      brightest->castShadows = true;
+    }
   }
   Summary summary;
   summary.HeadlightShading = complexity == 1;

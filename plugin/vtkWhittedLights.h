@@ -30,8 +30,10 @@ struct Summary
   bool LightsOn = false;
 };
 
-/// Fills lights with the renderer's switched-on lights, in the renderer's order.
-Summary Convert(vtkRenderer* renderer, std::vector<whitted::Light>& lights);
+/// Fills lights with the renderer's switched-on lights, in the renderer's order. A light casts
+/// shadows if its Shadow Attenuation is above 0 and, with brightestOnly, it is the brightest of
+/// those (intensity x largest colour channel; the first of equals).
+Summary Convert(vtkRenderer* renderer, std::vector<whitted::Light>& lights, bool brightestOnly);
 }
 
 #endif

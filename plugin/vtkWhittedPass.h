@@ -102,6 +102,7 @@ public:
    * SamplesPerPixel: stratified, jittered camera rays per pixel.
    * AdaptiveSampling: SamplesPerPixel only where the neighbouring pixels do not predict a pixel.
    * Shadows, Reflections, Refractions: trace shadow, mirror, bent transmitted rays.
+   * ShadowsFromBrightestLightOnly: shadow rays toward the brightest light only.
    * Fresnel: exact dielectric Fresnel at refracting surfaces.
    * ContributionThreshold: secondary rays of a smaller path weight are not traced.
    * TargetError, TimeBudget: progressive refinement of still frames, steered by the per-pixel error

@@ -94,6 +94,7 @@ void vtkWhittedPass::RenderInternal(const vtkRenderState* s)
     // Scene conversion (cached)
     converter = &in->ConverterFor(ren);
     converter->SetTimeCacheLimit(static_cast<std::size_t>(this->TimeCacheMemory) << 20);
+    converter->SetShadowsFromBrightestLightOnly(this->ShadowsFromBrightestLightOnly);
     std::clock_t cpu = std::clock();
     converter->Update(ren, s->GetPropArray(), s->GetPropArrayCount(), this, r.Conversion);
     r.ConversionTime = SecondsSince(start);

@@ -135,6 +135,7 @@ struct vtkWhittedSceneConverter::Internals
   vtkWhittedWarnings Warnings;
   vtkWhittedGlyphConverter Glyphs{ Scene, Geometries, Textures, Slots, Warnings };
   bool LightsOn = true;
+  bool BrightestLightShadowsOnly = false; // vtkWhittedPass ShadowsFromBrightestLightOnly
 
   void Clear()
   {
@@ -457,6 +458,12 @@ void vtkWhittedSceneConverter::SetTimeCacheLimit(std::size_t bytes)
 }
 
 //------------------------------------------------------------------------------
+void vtkWhittedSceneConverter::SetShadowsFromBrightestLightOnly(bool on)
+{
+  this->Impl->BrightestLightShadowsOnly = on;
+}
+
+//------------------------------------------------------------------------------
 void vtkWhittedSceneConverter::Update(
   vtkRenderer* ren, vtkProp** props, int count, vtkObject* owner, Result& result)
 {
@@ -469,7 +476,7 @@ void vtkWhittedSceneConverter::Update(
   in.Glyphs.BeginFrame();
 
   // Lights
-  const vtkWhittedLights::Summary lights = vtkWhittedLights::Convert(ren, in.Scene.lights());
+  const vtkWhittedLights::Summary lights = vtkWhittedLights::Convert(ren, in.Scene.lights(), in.BrightestLightShadowsOnly);
   result.HeadlightShading = lights.HeadlightShading;
   in.LightsOn = lights.LightsOn;
 

@@ -90,6 +90,10 @@ public:
   /// vtkWhittedGeometryCache.
   void SetTimeCacheLimit(std::size_t bytes);
 
+  /// Shadows from the brightest light only (vtkWhittedPass ShadowsFromBrightestLightOnly); see
+  /// vtkWhittedLights::Convert.
+  void SetShadowsFromBrightestLightOnly(bool on);
+
 private:
   struct Internals;
   std::unique_ptr<Internals> Impl;

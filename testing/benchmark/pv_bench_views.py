@@ -2,14 +2,19 @@
 Whitted Ray Trace view in one process, warmed up, and one camera for both."""
 
 
-def make_views(plugin, size, first):
-    """Loads the plugin and creates both views at size, keyed "render" and "whitted"; returns (views, order) with
-    order the view names, `first` first. Each view renders a small sphere once (window, OpenGL context,
-    shaders), then hides it, so nothing timed later pays for them."""
+def make_views(plugin, size, first, all_lights=False):
+    """Loads the plugin and creates both views at size, keyed "render" and "whitted" (the Whitted view at its
+    defaults: shadows from the light kit's key light only), with all_lights also "whitted_all" (every light of
+    the light kit casts shadows: ShadowsFromBrightestLightOnly 0); returns (views, order) with order the view
+    names, `first` first. Each view renders a small sphere once (window, OpenGL context, shaders), then hides
+    it, so nothing timed later pays for them."""
     from paraview.simple import CreateView, Hide, LoadPlugin, Render, Show, Sphere
 
     LoadPlugin(plugin, remote=False, ns=globals())
     views = {"render": CreateView("RenderView"), "whitted": CreateView("WhittedRayTraceView")}
+    if all_lights:
+        views["whitted_all"] = CreateView("WhittedRayTraceView")
+        views["whitted_all"].ShadowsFromBrightestLightOnly = 0
     order = [first] + [v for v in views if v != first]
     for v in views.values():
         v.ViewSize = list(size)

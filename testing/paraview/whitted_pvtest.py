@@ -307,7 +307,8 @@ class Checks:
 # RENDER_VIEW: the Whitted view with its effects off (no shadows, reflections, refractions) against ParaView's own
 # Render View raster of the same scene, on the pixels outside the mirror and glass spheres and away from
 # silhouettes (check_against_render_view). Measured: test scene 0 of 100727 compared pixels differ (max 0); glyphs
-# 6 of 53304 pixels (0.011%), max 58 (impostor vs traced sphere rims that the edge mask misses). Tolerance 6 and
+# 6 of 53304 pixels (0.011%), max 58 (impostor vs traced sphere rims that the edge mask misses); translucent box
+# (ground lowered by 1e-3, see check_against_render_view) 15 of 100613 (0.015%), max 14. Tolerance 6 and
 # 0.1% (9x the glyphs' share): a 10/255 error on 1% of the pixels fails (paraview.negative_control).
 RENDER_VIEW = dict(tolerance=6, max_bad_fraction=0.001)
 # Effects on against effects off on the same pixels: shadows only darken; nothing may get lighter by more than this
@@ -356,6 +357,20 @@ def check_against_render_view(view, shown, args, image):
     rv = make_view(proxy="RenderView")
     rv.EnableRenderOnInteraction = 0
     rv_shown = build_scene(rv, opacity=0.5 if args.translucent else 1.0)
+    # The box stands on the ground: its bottom face and the ground are coplanar. OpenGL draws a translucent face
+    # over an opaque one at equal depth (translucent geometry comes after, depth test LEQUAL), the tracer keeps one
+    # of two coplanar hits (the lower instance and primitive id, README "Coplanar surfaces"), so seen through the
+    # translucent box the two differ by design (measured: 0.32% of the compared pixels by up to 34/255). The oracle
+    # compares the scene without that tie: the ground lowered by 1e-3 in both views.
+    lowered = []
+    if args.translucent:
+        for s in (shown, rv_shown):
+            plane = s["ground"].Input
+            for prop in ("Origin", "Point1", "Point2"):
+                p = list(getattr(plane, prop))
+                p[1] -= 1e-3
+                setattr(plane, prop, p)
+            lowered.append(plane)
     if args.view_features:
         add_view_features(rv, rv_shown)
     raster = screenshot(rv, os.path.join(tmp, name + "_renderview.png"), size)
@@ -380,7 +395,13 @@ def check_against_render_view(view, shown, args, image):
     if not ok:
         failures.append("effects off, the Whitted view differs from the Render View where effects cannot matter")
     # Effects on: shadows may only darken those pixels
-    on = read_png(image)
+    if lowered:  # the test's own image has the ground where it was: the same view with effects, ground lowered
+        view.Shadows = 1
+        view.Reflections = 1
+        view.Refractions = 1
+        on = screenshot(view, os.path.join(tmp, name + "_effects_on_lowered.png"), size)
+    else:
+        on = read_png(image)
     lighter = np.where(compared, (on - off).max(axis=2), 0)
     n_lighter = int((lighter > EFFECTS_LIGHTER).sum())
     print("effects on vs off: %d compared pixels lighter by more than %d (max %d), %d darker (shadows)" % (
@@ -390,4 +411,9 @@ def check_against_render_view(view, shown, args, image):
     view.Shadows = 1
     view.Reflections = 1
     view.Refractions = 1
+    for plane in lowered:
+        for prop in ("Origin", "Point1", "Point2"):
+            p = list(getattr(plane, prop))
+            p[1] += 1e-3
+            setattr(plane, prop, p)
     return failures

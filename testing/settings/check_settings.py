@@ -6,7 +6,7 @@ both suites.
 
 - xml/WhittedView.xml, the Whitted view's proxy: for every row a property of the row's name, label (the name
   spaced) and element (IntVectorProperty for int and bool, DoubleVectorProperty for double), command Set<Name>,
-  one element, the table's default_values, a range domain of the table's range (a boolean domain for booleans),
+  one element, the table's default_values (the view's, where VTK_WHITTED_VIEW_DEFAULTS lists one), a range domain of the table's range (a boolean domain for booleans),
   the table's documentation as its tooltip, in one of the view's Whitted property groups; and those groups hold
   nothing else.
 - vtkPVWhittedView: the Pass rows' forwarders and the View rows' members and accessors are generated from the
@@ -47,8 +47,8 @@ def xml_problems(rows):
             if got != expected:
                 problems.append("%s: XML %s %s, expected %s" % (row.name, what, got, expected))
         default = p.get("default_values")
-        if default is None or not same(default, row.default):
-            problems.append("%s: XML default %s, table %s" % (row.name, default, row.default))
+        if default is None or not same(default, row.view_default):
+            problems.append("%s: XML default %s, table (view default) %s" % (row.name, default, row.view_default))
         domain = p.find(domains[row.type])
         if domain is None:
             problems.append("%s: no %s in the XML" % (row.name, domains[row.type]))

@@ -14,6 +14,7 @@ class Row:
     def __init__(self, owner, typ, name, default, lo, hi, doc):
         self.owner, self.type, self.name = owner, typ, name
         self.default, self.minimum, self.maximum, self.doc = default, lo, hi, doc
+        self.view_default = default  # the ParaView view's default (VTK_WHITTED_VIEW_DEFAULTS), if it differs
 
     def __iter__(self):  # owner, type, name, default, minimum, maximum, documentation
         return iter((self.owner, self.type, self.name, self.default, self.minimum, self.maximum, self.doc))
@@ -34,6 +35,14 @@ def read_table(root=ROOT):
         rows.append(Row(m.group(1), m.group(2), m.group(3), numbers[0], numbers[1], numbers[2], doc))
     if len(rows) != body.count("  X("):
         raise ValueError("read %d rows of the settings table, it has %d" % (len(rows), body.count("  X(")))
+    overrides = text[text.index("#define VTK_WHITTED_VIEW_DEFAULTS(X)"):]
+    overrides = overrides[:overrides.index("// clang-format on")]
+    by_name = {row.name: row for row in rows}
+    for m in re.finditer(r"X\((\w+), ([^)]+)\)", overrides):
+        expr = m.group(2).strip()
+        if m.group(1) not in by_name or by_name[m.group(1)].owner != "Pass":
+            raise ValueError("VTK_WHITTED_VIEW_DEFAULTS: %s is no Pass row of the table" % m.group(1))
+        by_name[m.group(1)].view_default = value[expr] if expr in value else float(eval(expr, {"__builtins__": {}}))
     return rows
 
 
@@ -71,8 +80,11 @@ def readme_problems(rows, root=ROOT):
             problems.append("%s: no row in the settings tables of plugin/README.md" % row.name)
             continue
         readme_default, readme_range = m.group(1).strip(), m.group(2).strip()
-        if not same(cell_value(readme_default), row.default):
-            problems.append("%s: README default %s, table %s" % (row.name, readme_default, row.default))
+        view = re.match(r"(.*) \(view: (.*)\)$", readme_default)
+        pass_cell, view_cell = (view.group(1), view.group(2)) if view else (readme_default, readme_default)
+        if not same(cell_value(pass_cell), row.default) or not same(cell_value(view_cell), row.view_default):
+            problems.append("%s: README default %s, table %s (view %s)" % (
+                row.name, readme_default, row.default, row.view_default))
         if row.type == "bool":
             ok = readme_range == "on/off"
         else:

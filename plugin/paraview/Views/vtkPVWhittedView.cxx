@@ -33,6 +33,10 @@ vtkPVWhittedView::vtkPVWhittedView()
   // would rasterise.
   this->SynchronizedRenderers->SetRenderPass(this->WhittedPass);
   this->InstalledPass = this->WhittedPass;
+  // The pass settings whose view default differs from the pass's (see vtkWhittedSettings.h)
+#define VTK_WHITTED_VIEW_DEFAULT(name, value) this->WhittedPass->Set##name(value);
+  VTK_WHITTED_VIEW_DEFAULTS(VTK_WHITTED_VIEW_DEFAULT)
+#undef VTK_WHITTED_VIEW_DEFAULT
 
   // Level of detail is never used (see SetLODRenderingThreshold), nor FXAA (see SetUseFXAA).
   this->Superclass::SetLODRenderingThreshold(VTK_DOUBLE_MAX);
