@@ -150,7 +150,8 @@ struct FrameStats {
 };
 
 /// Renders scene (committed) through camera into fb (resized to width x height). Every pixel of fb is written:
-/// the pixels not traced (other processes' tiles, an aborted frame) are cleared, so fb can be kept between frames.
+/// the pixels not traced (other processes' tiles, an aborted frame) are cleared, so fb can be kept between frames
+/// (a frame that throws leaves fb undefined: the next frame writes it all again).
 FrameStats render(const Scene& scene, const Camera& camera, const RenderSettings& settings, int width, int height,
                   FrameBuffer& fb);
 

@@ -307,13 +307,12 @@ class TestWhittedPythonPass(Testing.vtkTest):
         from vtkmodules.vtkRenderingCore import vtkCamera
         from whitted_imagetest import grab_with_depth
 
-        def new_view(size, azimuth):
+        def new_view(size, camera):
+            """The first frame of a new window and pass (new textures) through a copy of camera."""
             renderer, window = make_window(*size)
             classic_scene(renderer, 12)
             renderer.SetPass(vtkWhittedPass())
-            window.Render()
-            if azimuth:
-                renderer.GetActiveCamera().Azimuth(azimuth)
+            renderer.GetActiveCamera().DeepCopy(camera)
             return grab_with_depth(window)
 
         renderer, window = make_window(80, 60)
@@ -323,16 +322,23 @@ class TestWhittedPythonPass(Testing.vtkTest):
         camera = renderer.GetActiveCamera()
         start = vtkCamera()
         start.DeepCopy(camera)
-        kept = [grab_with_depth(window)]
+        kept, views = [], []
+
+        def keep():
+            kept.append(grab_with_depth(window))
+            views.append((window.GetSize(), vtkCamera()))
+            views[-1][1].DeepCopy(camera)
+
+        keep()
         camera.Azimuth(20)
-        kept.append(grab_with_depth(window))
+        keep()
         window.SetSize(64, 48)
-        kept.append(grab_with_depth(window))
+        keep()
         window.SetSize(80, 60)
         camera.DeepCopy(start)
-        kept.append(grab_with_depth(window))
-        for k, view in enumerate([((80, 60), 0), ((80, 60), 20), ((64, 48), 20), ((80, 60), 0)]):
-            color, depth = new_view(*view)
+        keep()
+        for k, (size, view) in enumerate(views):
+            color, depth = new_view(size, view)
             self.assertEqual(kept[k][0].shape, color.shape)
             self.assertTrue((kept[k][0] == color).all(), "colour of frame %d" % k)
             self.assertTrue((kept[k][1] == depth).all(), "depth of frame %d" % k)
