@@ -14,6 +14,16 @@
 
 #include <string>
 
+namespace
+{
+// Whether t holds a w x h image of the last upload in win (the format is fixed per texture)
+bool Reusable(vtkTextureObject* t, vtkOpenGLRenderWindow* win, int w, int h)
+{
+  return t->GetHandle() != 0 && t->GetContext() == win && t->GetTarget() == GL_TEXTURE_2D &&
+    t->GetWidth() == static_cast<unsigned int>(w) && t->GetHeight() == static_cast<unsigned int>(h);
+}
+}
+
 //------------------------------------------------------------------------------
 vtkWhittedCompositor::vtkWhittedCompositor() = default;
 
@@ -80,11 +90,31 @@ bool vtkWhittedCompositor::Draw(vtkOpenGLRenderWindow* win, const whitted::Frame
     return false;
   }
 
-  // Upload
-  this->ColorTexture->Create2DFromRaw(
-    fb.width, fb.height, 4, VTK_FLOAT, const_cast<float*>(&fb.color[0].x));
-  this->DepthTexture->CreateDepthFromRaw(
-    fb.width, fb.height, vtkTextureObject::Float32, VTK_FLOAT, const_cast<float*>(fb.depth.data()));
+  // Upload: into the textures of the last frame when they have this size (their formats never change), as
+  // glTexSubImage2D; a new texture (glTexImage2D of 20 bytes a pixel) only on the first frame, a new size or
+  // context, or after ReleaseGraphicsResources
+  float* color = const_cast<float*>(&fb.color[0].x);
+  float* depth = const_cast<float*>(fb.depth.data());
+  if (Reusable(this->ColorTexture, win, fb.width, fb.height))
+  {
+    this->ColorTexture->Bind();
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, fb.width, fb.height, GL_RGBA, GL_FLOAT, color);
+  }
+  else
+  {
+    this->ColorTexture->Create2DFromRaw(fb.width, fb.height, 4, VTK_FLOAT, color);
+  }
+  if (Reusable(this->DepthTexture, win, fb.width, fb.height))
+  {
+    this->DepthTexture->Bind();
+    glTexSubImage2D(
+      GL_TEXTURE_2D, 0, 0, 0, fb.width, fb.height, GL_DEPTH_COMPONENT, GL_FLOAT, depth);
+  }
+  else
+  {
+    this->DepthTexture->CreateDepthFromRaw(
+      fb.width, fb.height, vtkTextureObject::Float32, VTK_FLOAT, depth);
+  }
   this->ColorTexture->Activate();
   this->DepthTexture->Activate();
   this->Quad->Program->SetUniformi("colorTexture", this->ColorTexture->GetTextureUnit());

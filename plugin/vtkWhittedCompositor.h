@@ -3,7 +3,7 @@
  * @brief   internal: writes a traced colour + depth image into the current OpenGL framebuffer
  *
  * Private to the Whitted module. Uploads the tracer's linear RGBA (float) and OpenGL window depth
- * (float) as textures and draws a full-screen quad over the renderer's viewport that writes both
+ * (float) as textures (kept between frames of the same size: later frames update them in place) and draws a full-screen quad over the renderer's viewport that writes both
  * gl_FragData and gl_FragDepth. Pixels the tracer missed (alpha 0) are discarded, so whatever VTK
  * cleared there (background, gradient, lower layers, a transparent background for compositing)
  * stays; partly covered pixels are blended as premultiplied colour. The depth test is LEQUAL

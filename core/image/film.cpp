@@ -22,6 +22,33 @@ void FrameBuffer::resize(int w, int h) {
   samples.assign(n, 0);
 }
 
+bool FrameBuffer::sized(int w, int h) const {
+  const std::size_t n = std::size_t(std::max(0, w)) * std::max(0, h);
+  return width == std::max(0, w) && height == std::max(0, h) && color.size() == n && depth.size() == n &&
+         traced.size() == n && truncation.size() == n && sampling.size() == n && samples.size() == n;
+}
+
+void FrameBuffer::clearPixel(std::size_t i) {
+  color[i] = Color4(0.0f);
+  depth[i] = 1.0f;
+  traced[i] = 0;
+  truncation[i] = 0.0f;
+  sampling[i] = 0.0f;
+  samples[i] = 0;
+}
+
+void FrameJob::clearUntraced() {
+  std::size_t slot = 0;
+  for (int t = 0; t < tilesX_ * tilesY_; ++t) {
+    const bool mine = slot < myTiles_.size() && myTiles_[slot] == t;
+    if (mine && tileDone_[slot++]) continue;
+    const int x0 = (t % tilesX_) * ts_, y0 = (t / tilesX_) * ts_;
+    const int x1 = std::min(w_, x0 + ts_), y1 = std::min(h_, y0 + ts_);
+    for (int py = y0; py < y1; ++py)
+      for (int px = x0; px < x1; ++px) fb_.clearPixel(index(px, py));
+  }
+}
+
 Color FrameJob::screenBackground(int py) const {
   if (scene_.gradientBackground) return glm::mix(scene_.background, scene_.background2, float((py + 0.5) / h_));
   return scene_.background;
@@ -77,26 +104,47 @@ void FrameJob::addSample(const Sample& smp, PixelSums& ps, RayStats& st) const {
   ps.err += smp.truncationBound;
 }
 
-void FrameJob::writePixel(std::size_t idx, const PixelSums& ps, RayStats& st) {
+FrameJob::FilmPixel FrameJob::resolvePixel(const PixelSums& ps, RayStats& st) const {
   const int n = ps.n;
   float inv = 1.0f / float(n);
-  Color4 out(ps.sum * inv, ps.alpha * inv);
+  FilmPixel p;
+  p.color = Color4(ps.sum * inv, ps.alpha * inv);
   bool finite = true;
   for (int k = 0; k < 4; ++k)
-    if (!std::isfinite(out[k])) {  // last line of defence: never a non-finite pixel (counted)
-      out[k] = 0.0f;
+    if (!std::isfinite(p.color[k])) {  // last line of defence: never a non-finite pixel (counted)
+      p.color[k] = 0.0f;
       finite = false;
     }
   if (!finite) ++st.nonFinitePixels;
-  fb_.color[idx] = out;
-  fb_.depth[idx] = ps.depth;
-  fb_.traced[idx] = 1;
-  fb_.samples[idx] = uint16_t(std::min(n, 65535));
+  p.depth = ps.depth;
+  p.samples = uint16_t(std::min(n, 65535));
   // Error estimates in the units of the clamped colour: the pixel can rise by at most its headroom to 1
-  const float headroom = 1.0f - std::clamp(std::min(std::min(out.x, out.y), out.z), 0.0f, 1.0f);
-  fb_.truncation[idx] = std::min(headroom, ps.err * inv);
-  fb_.sampling[idx] = n > 1 ? samplingEstimate(ps.sum, ps.sum2, n) : 0.0f;
-  hitMask_[idx] = ps.anyHit ? 1 : 0;
+  const float headroom = 1.0f - std::clamp(std::min(std::min(p.color.x, p.color.y), p.color.z), 0.0f, 1.0f);
+  p.truncation = std::min(headroom, ps.err * inv);
+  p.sampling = n > 1 ? samplingEstimate(ps.sum, ps.sum2, n) : 0.0f;
+  p.hit = ps.anyHit ? 1 : 0;
+  return p;
+}
+
+void FrameJob::storePixel(std::size_t idx, const FilmPixel& p) {
+  fb_.color[idx] = p.color;
+  fb_.depth[idx] = p.depth;
+  fb_.traced[idx] = 1;
+  fb_.samples[idx] = p.samples;
+  fb_.truncation[idx] = p.truncation;
+  fb_.sampling[idx] = p.sampling;
+  hitMask_[idx] = p.hit;
+}
+
+bool FrameJob::missPixel(const Color& background, FilmPixel& p) const {
+  // The pipeline of a one-sample pixel (addSample, resolvePixel) applied to missSample: every miss of a row is
+  // this pixel. Used only when it trips no safety net (which would count per pixel)
+  RayStats st;
+  PixelSums ps;
+  addSample(integ_.missSample(background, st), ps, st);
+  ps.n = 1;
+  p = resolvePixel(ps, st);
+  return st.safetyNetCatches() == 0;
 }
 
 void FrameJob::tracePixels(int tileSlot, int n, bool refineOnly) {
@@ -118,11 +166,53 @@ void FrameJob::tracePixels(int tileSlot, int n, bool refineOnly) {
     writePixel(idx, ps, st);
     if (progressive_) acc_[idx] = ps;
   };
+  // Performance note: most camera rays of a typical view (an object on a background) miss; a miss's pixel is
+  // computed once per background (row) and copied, instead of taking each miss through the pixel sums
+  // (progressive frames keep every pixel's sums, so they take no shortcut)
+  Color missBackground{0.0f};
+  FilmPixel missValue;
+  bool missKnown = false, missClean = false;
+  int termRow = -1;  // the row of rowTerm (camera rays by rows: Camera::rayPixelRow)
+  Vec4 rowTerm(0.0);
   auto flush = [&] {
     Ray rays[kBlock];
-    for (int k = 0; k < np; ++k) rays[k] = cameraRay(stratifiedSamplePos(pending[k].px, pending[k].py, 0, 1));
-    traceSamples(rays, np, integ_, sums, st, bg, 1);
     for (int k = 0; k < np; ++k) {
+      const Vec2 p = stratifiedSamplePos(pending[k].px, pending[k].py, 0, 1);
+      if (pending[k].py != termRow) {
+        termRow = pending[k].py;
+        rowTerm = camera_.pixelRowTerm(p.y, h_);
+      }
+      rays[k] = camera_.rayPixelRow(p.x, w_, rowTerm);
+    }
+    unsigned misses = 0;
+    if (progressive_) {
+      traceSamples(rays, np, integ_, sums, st, bg, 1);
+    } else {
+      RayStats stats[kBlock];
+      Sample smp[kBlock];
+      integ_.traceBlock(rays, np, stats, bg, smp, &misses);
+      for (int k = 0; k < np; ++k) {
+        st += stats[k];
+        if (misses >> k & 1) {
+          if (!missKnown || !(bg[k] == missBackground)) {
+            missBackground = bg[k];
+            missClean = missPixel(bg[k], missValue);
+            missKnown = true;
+          }
+          if (missClean) {
+            samples += n;
+            if (refineOnly) ++refined;
+            storePixel(pending[k].idx, missValue);
+            continue;
+          }
+          misses &= ~(1u << k);
+          smp[k] = integ_.missSample(bg[k], st);
+        }
+        addSample(smp[k], sums[k], st);
+      }
+    }
+    for (int k = 0; k < np; ++k) {
+      if (misses >> k & 1) continue;  // written above
       sums[k].n = 1;
       finish(pending[k].idx, sums[k]);
     }
@@ -143,6 +233,7 @@ void FrameJob::tracePixels(int tileSlot, int n, bool refineOnly) {
     finish(idx, ps);
   });
   if (np > 0) flush();
+  if (!refineOnly) tileDone_[std::size_t(tileSlot)] = 1;
   samples_ += samples;
   supersampled_ += refined;
 }
@@ -150,7 +241,10 @@ void FrameJob::tracePixels(int tileSlot, int n, bool refineOnly) {
 void FrameJob::restorePixels() {
   RayStats st;
   for (std::size_t i = 0; i < acc_.size(); ++i)
-    if (acc_[i].n > 0) writePixel(i, acc_[i], st);
+    if (acc_[i].n > 0)
+      writePixel(i, acc_[i], st);
+    else
+      fb_.clearPixel(i);
   if (!tileStats_.empty()) tileStats_.front() += st;
 }
 

@@ -42,10 +42,27 @@ class FrameJob {
                     const Color* background, int psStride) const;
   /// Adds one traced camera sample to ps.
   void addSample(const Sample& smp, PixelSums& ps, RayStats& st) const;
+  /// What the frame buffer gets for a pixel (and hitMask_).
+  struct FilmPixel {
+    Color4 color{0.0f};
+    float depth = 1.0f, truncation = 0.0f, sampling = 0.0f;
+    uint16_t samples = 0;
+    uint8_t hit = 0;
+  };
+  /// A pixel's colour, depth and error estimates from its sums.
+  FilmPixel resolvePixel(const PixelSums& ps, RayStats& st) const;
+  /// Writes p to pixel idx (marked traced).
+  void storePixel(std::size_t idx, const FilmPixel& p);
   /// Writes a pixel's colour, depth and error estimates from its sums.
-  void writePixel(std::size_t idx, const PixelSums& ps, RayStats& st);
-  /// Progressive display: the image of the kept sums (pixels with no sample are not this process's).
+  void writePixel(std::size_t idx, const PixelSums& ps, RayStats& st) { storePixel(idx, resolvePixel(ps, st)); }
+  /// The pixel of one camera sample that missed everything in front of background; false if computing it tripped a
+  /// safety net (then each miss must count it: no shortcut).
+  bool missPixel(const Color& background, FilmPixel& p) const;
+  /// Progressive display: the image of the kept sums (pixels with no sample are not this process's: cleared).
   void restorePixels();
+  /// Clears the pixels pass 1 did not trace (other processes' tiles, tiles an abort or deadline skipped): the frame
+  /// buffer is kept from the last frame.
+  void clearUntraced();
   /// The background behind a pixel row, as VTK draws it: solid, or a vertical gradient from the bottom colour to
   /// the top colour across the viewport.
   Color screenBackground(int py) const;
@@ -112,6 +129,7 @@ class FrameJob {
   int ts_, tilesX_, tilesY_;
   std::vector<int> myTiles_;         ///< This process's tiles (RenderSettings::tileStride), by slot.
   std::vector<RayStats> tileStats_;  ///< Per tile slot, summed in slot order.
+  std::vector<uint8_t> tileDone_;    ///< Per tile slot, 1 once pass 1 traced it.
   std::vector<uint8_t> hitMask_;     ///< 1 where a pixel's samples hit anything.
   std::vector<uint8_t> marks_;       ///< Pixels to supersample (adaptive) or refine (see kKeep ...).
   TileScheduler tiles_;

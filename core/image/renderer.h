@@ -26,7 +26,12 @@ struct FrameBuffer {
   /// - sampling: an estimate of the pixel's anti-aliasing error (see kSamplingConfidence).
   std::vector<float> truncation, sampling;
   std::vector<uint16_t> samples;  ///< Camera samples taken per pixel.
+  /// Sets the size and clears every pixel (colour 0, depth 1, not traced).
   void resize(int w, int h);
+  /// Whether the buffers hold w x h pixels.
+  bool sized(int w, int h) const;
+  /// Clears pixel i as resize() does.
+  void clearPixel(std::size_t i);
 };
 
 /// Loosening levels progressive refinement may apply per pixel (see RenderSettings::targetError).
@@ -144,7 +149,9 @@ struct FrameStats {
   bool kernelReflection = false, kernelRefraction = false, kernelShadows = false;
 };
 
-/// Renders scene (committed) through camera into fb (resized to width x height).
+/// Renders scene (committed) through camera into fb (resized to width x height). Every pixel of fb is written:
+/// the pixels not traced (other processes' tiles, an aborted frame) are cleared, so fb can be kept between frames
+/// (a frame that throws leaves fb undefined: the next frame writes it all again).
 FrameStats render(const Scene& scene, const Camera& camera, const RenderSettings& settings, int width, int height,
                   FrameBuffer& fb);
 

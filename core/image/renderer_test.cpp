@@ -197,6 +197,54 @@ TEST(Renderer, AbortThenRenderAgainGivesTheRightImage) {
   EXPECT_EQ(0, std::memcmp(again.color.data(), ref.color.data(), ref.color.size() * sizeof(Color4)));
 }
 
+// render() keeps a frame buffer of the same size: a frame into a buffer holding another frame (other settings, a
+// full image) equals the same frame into a new buffer, in every array, for frames that trace only part of the image
+// (an abort, another process's tiles) and for a resumed progressive frame.
+TEST(Renderer, KeptFrameBufferEqualsNewOne) {
+  Classic c;
+  Camera cam = c.cs.make(1.0, c.scene.bounds());
+  auto same = [](const FrameBuffer& a, const FrameBuffer& b) {
+    return a.width == b.width && a.height == b.height && a.color == b.color && a.depth == b.depth &&
+           a.traced == b.traced && a.truncation == b.truncation && a.sampling == b.sampling && a.samples == b.samples;
+  };
+  RenderSettings full;
+  full.samplesPerPixel = 4;
+  full.tileSize = 8;
+  std::vector<RenderSettings> cases(4, RenderSettings{});
+  cases[0].abortAfterTiles = 5;
+  cases[0].threads = 2;
+  cases[1].tileStride = 2;
+  cases[1].tileOffset = 1;
+  cases[2].samplesPerPixel = 4;
+  cases[2].adaptive = true;
+  cases[2].tileStride = 3;
+  cases[3].abortAfterTiles = 3;
+  cases[3].samplesPerPixel = 4;
+  cases[3].adaptive = true;
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    cases[k].tileSize = 8;
+    FrameBuffer kept, fresh;
+    render(c.scene, cam, full, 48, 40, kept);
+    FrameStats a = render(c.scene, cam, cases[k], 48, 40, kept);
+    FrameStats b = render(c.scene, cam, cases[k], 48, 40, fresh);
+    EXPECT_TRUE(same(kept, fresh)) << k;
+    EXPECT_EQ(a.rays.primary, b.rays.primary) << k;
+    EXPECT_LT(std::count(fresh.traced.begin(), fresh.traced.end(), 1), 48 * 40) << k;  // part of the image
+  }
+  // Progressive display resumed from kept sums of another process's tiles
+  RefinementState state;
+  RenderSettings prog;
+  prog.tileStride = 2;
+  prog.timeBudget = 1e-9;
+  prog.refinement = &state;
+  FrameBuffer kept, fresh;
+  render(c.scene, cam, prog, 48, 40, fresh);
+  render(c.scene, cam, full, 48, 40, kept);
+  render(c.scene, cam, prog, 48, 40, kept);
+  render(c.scene, cam, prog, 48, 40, fresh = FrameBuffer{});
+  EXPECT_TRUE(same(kept, fresh));
+}
+
 #ifdef __linux__
 // threads = 0 means the cores the process may run on (mpirun binds ranks to cores, taskset, cpusets).
 TEST(Renderer, AllCoresMeansTheAffinityMask) {

@@ -41,9 +41,11 @@ Camera Camera::parallel(const Vec3& eye, const Vec3& focal, const Vec3& up, doub
   return fromViewProjection(proj * view);
 }
 
-Ray Camera::rayNdc(double x, double y) const {
+Ray Camera::rayNdc(double x, double y) const { return rayNdcRow(x, rowTerm(y)); }
+
+Ray Camera::rayNdcRow(double x, const Vec4& row) const {
   // unproject() at z = -1 and z = 1, sharing the x and y terms (bit-identical: see nearZW_)
-  const Vec4 xy = clipToWorld_[0] * x + clipToWorld_[1] * y;
+  const Vec4 xy = clipToWorld_[0] * x + row;
   const Vec4 hNear = xy + nearZW_, hFar = xy + farZW_;
   Vec3 pNear = Vec3(hNear) / hNear.w;
   Vec3 pFar = Vec3(hFar) / hFar.w;

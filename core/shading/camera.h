@@ -32,6 +32,13 @@ class Camera {
   Ray rayPixel(double px, double py, int width, int height) const {
     return rayNdc(2.0 * px / width - 1.0, 2.0 * py / height - 1.0);
   }
+  /// The part of rayNdc that depends on y alone, shared by a row of rays: rayNdcRow(x, rowTerm(y)) is
+  /// rayNdc(x, y) bit for bit (the very same operations).
+  Vec4 rowTerm(double y) const { return clipToWorld_[1] * y; }
+  Ray rayNdcRow(double x, const Vec4& row) const;
+  /// rayPixel by rows: pixelRowTerm(py, height) once per row, then rayPixelRow(px, width, row) per point.
+  Vec4 pixelRowTerm(double py, int height) const { return rowTerm(2.0 * py / height - 1.0); }
+  Ray rayPixelRow(double px, int width, const Vec4& row) const { return rayNdcRow(2.0 * px / width - 1.0, row); }
 
   /// OpenGL window depth (0.5 * z_ndc + 0.5) of a world point; outside [0,1] when clipped.
   double glDepth(const Vec3& world) const;

@@ -81,7 +81,9 @@ Sample Integrator::trace(const Ray& ray, RayStats& stats, const Color& screenBac
   return finishPath(c, tHit, first, ps, stats);
 }
 
-void Integrator::traceBlock(const Ray* rays, int n, RayStats* stats, const Color* screenBackground, Sample* out) const {
+void Integrator::traceBlock(const Ray* rays, int n, RayStats* stats, const Color* screenBackground, Sample* out,
+                            unsigned* misses) const {
+  if (misses) *misses = 0;
   // Scenes with transmissive surfaces trace single shadow rays: there a packet's blocked rays go again through
   // transmittance() (Scene::occludedPacket), which made the classic scene's frame 6% slower
   // (and closest-hit packets for the first hits without shadow packets beside them measured 0.76-1.00x there)
@@ -141,13 +143,36 @@ void Integrator::traceBlock(const Ray* rays, int n, RayStats* stats, const Color
         fh[i].t(j) = Color(blocked >> i & 1 ? 0.0f : 1.0f);
     }
   }
-  // Shading and everything after the first hit, per ray
+  // Shading and everything after the first hit, per ray; a camera ray that hit nothing is the kernel's straight
+  // escape at weight 1 (missSample: the same operations, without the kernel's call)
   for (int i = 0; i < n; ++i) {
+    if (!fh[i].found) {
+      if (misses)
+        *misses |= 1u << i;
+      else
+        out[i] = missSample(screenBackground[i], stats[i]);
+      continue;
+    }
     double tHit = kInfinity;
     Vec3 first(0.0);
     const Color c = (this->*kernel_)(rays[i], 0, Color(1.0f), true, stats[i], ps[i], &tHit, &first, &fh[i]);
     out[i] = finishPath(c, tHit, first, ps[i], stats[i]);
   }
+}
+
+Sample Integrator::missSample(const Color& screenBackground, RayStats& stats) const {
+  PathState ps;
+  ps.screenBackground = screenBackground;  // (startPath's pathLength is for hits only)
+  const Color c = straightEscape(Color(1.0f), ps);
+  return finishPath(c, kInfinity, Vec3(0.0), ps, stats);
+}
+
+Color Integrator::straightEscape(const Color& weight, PathState& ps) const {
+  // Along the camera ray's line: what lies behind the pixel on screen. The background contributes in proportion to
+  // its alpha; the rest is left to what is drawn behind, through the pixel's alpha.
+  float a = scene_.backgroundAlpha;
+  ps.escaped += (weight.x + weight.y + weight.z) / 3.0f * (1.0f - a);
+  return a * ps.screenBackground;
 }
 
 Sample Integrator::finishPath(const Color& color, double tHit, const Vec3& first, const PathState& ps,
@@ -255,13 +280,7 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
                            double* tHit, Vec3* firstHit, const FirstHit* pre) const {
   Hit hit;
   if (pre ? !pre->found : !scene_.intersect(ray, hit, &st.nodesVisited)) {
-    if (straight) {
-      // Along the camera ray's line: what lies behind the pixel on screen. The background contributes in
-      // proportion to its alpha; the rest is left to what is drawn behind, through the pixel's alpha.
-      float a = scene_.backgroundAlpha;
-      ps.escaped += (weight.x + weight.y + weight.z) / 3.0f * (1.0f - a);
-      return a * ps.screenBackground;
-    }
+    if (straight) return straightEscape(weight, ps);
     // Reflected or bent: the environment in the ray's direction, an opaque colour contribution
     return scene_.environment(ray.dir, up_);
   }

@@ -149,8 +149,13 @@ class Integrator {
   /// which loads each BVH node once for the block's rays; everything after the first hit is traced per ray. With
   /// IntegratorSettings::primaryPackets the first hits are found as one packet (Scene::intersectPacket). In a scene
   /// with transmissive surfaces both go one by one; with IntegratorSettings::packets off the shadow rays do, and
-  /// with neither kind of packet the same as calling trace() for each ray.
-  void traceBlock(const Ray* rays, int n, RayStats* stats, const Color* screenBackground, Sample* out) const;
+  /// with neither kind of packet the same as calling trace() for each ray. With misses, the rays that hit nothing
+  /// have bit i set there and out[i] left unwritten: out[i] would be missSample(screenBackground[i], stats[i])
+  /// (the caller can write a pixel from a miss computed once; rays traced one by one are never reported).
+  void traceBlock(const Ray* rays, int n, RayStats* stats, const Color* screenBackground, Sample* out,
+                  unsigned* misses = nullptr) const;
+  /// trace()'s result for a camera ray that hits nothing, behind which the screen shows screenBackground.
+  Sample missSample(const Color& screenBackground, RayStats& stats) const;
   static constexpr int kBlock = 4;
   static constexpr int kPacketLights = 8;
 
@@ -179,6 +184,8 @@ class Integrator {
   template <bool Shadows, typename ShadowFn>
   Color shadeLocal(const SurfacePoint& sp, const Material& m, const Vec3& n, const Vec3& v, bool inside, RayStats& st,
                    Color& highlight, float& shadowCut, ShadowFn& shadows) const;
+  /// A straight ray (on the camera ray's line) that hit nothing, at weight: the screen background's share.
+  Color straightEscape(const Color& weight, PathState& ps) const;
   /// trace()'s start and end around the kernel call.
   void startPath(const Ray& ray, const Color& screenBackground, PathState& ps) const;
   Sample finishPath(const Color& color, double tHit, const Vec3& first, const PathState& ps, RayStats& stats) const;

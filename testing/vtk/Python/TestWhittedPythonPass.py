@@ -300,6 +300,51 @@ class TestWhittedPythonPass(Testing.vtkTest):
         self.assertLess(stats.GetPrimaryRays(), 80 * 60 * 4)
         self.assertGreater(stats.GetPrimaryRays(), 80 * 60)
 
+    def testKeptTexturesGiveTheNewImage(self):
+        """The compositor keeps its textures between frames of one size (updated in place) and makes new ones on a
+        size change: each frame of a window that rendered other views and sizes before equals, colour and depth,
+        the frame of a new window and pass (new textures) for the same view."""
+        from vtkmodules.vtkRenderingCore import vtkCamera
+        from whitted_imagetest import grab_with_depth
+
+        def new_view(size, camera):
+            """The first frame of a new window and pass (new textures) through a copy of camera."""
+            renderer, window = make_window(*size)
+            classic_scene(renderer, 12)
+            renderer.SetPass(vtkWhittedPass())
+            renderer.GetActiveCamera().DeepCopy(camera)
+            return grab_with_depth(window)
+
+        renderer, window = make_window(80, 60)
+        classic_scene(renderer, 12)
+        renderer.SetPass(vtkWhittedPass())
+        window.Render()
+        camera = renderer.GetActiveCamera()
+        start = vtkCamera()
+        start.DeepCopy(camera)
+        kept, views = [], []
+
+        def keep():
+            kept.append(grab_with_depth(window))
+            views.append((window.GetSize(), vtkCamera()))
+            views[-1][1].DeepCopy(camera)
+
+        keep()
+        camera.Azimuth(20)
+        keep()
+        window.SetSize(64, 48)
+        keep()
+        window.SetSize(80, 60)
+        camera.DeepCopy(start)
+        keep()
+        for k, (size, view) in enumerate(views):
+            color, depth = new_view(size, view)
+            self.assertEqual(kept[k][0].shape, color.shape)
+            self.assertTrue((kept[k][0] == color).all(), "colour of frame %d" % k)
+            self.assertTrue((kept[k][1] == depth).all(), "depth of frame %d" % k)
+        self.assertFalse((kept[0][0] == kept[1][0]).all())  # the second frame changed the kept textures
+        self.assertLess(kept[1][1].min(), 1.0)  # (grab_with_depth renders a new frame)
+
     def testInteractiveQuality(self):
         """Interactive frames: 1 sample, at most InteractiveMaxDepth bounces, shadows only with InteractiveShadows,
         at 1/InteractiveImageReduction of the size; the full-quality settings are never changed, so turning
