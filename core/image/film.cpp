@@ -1,7 +1,7 @@
 // The film: per-pixel sums of camera samples (PixelSums) and the frame buffer written from them. Samples are
 // traced here into the sums (positions from image/sampling.h); a pixel's colour, depth and error estimates are
 // its sums' means.
-#include "image/error_estimate.h"  // samplingEstimate
+#include "image/error_estimate.h"  // samplingEstimate, calibratedSampling
 #include "image/frame_job.h"
 #include "image/sampling.h"
 
@@ -19,6 +19,7 @@ void FrameBuffer::resize(int w, int h) {
   traced.assign(n, 0);
   truncation.assign(n, 0.0f);
   sampling.assign(n, 0.0f);
+  samplingRms.assign(n, 0.0f);  // the calibrated estimate (error_estimate.h)
   samples.assign(n, 0);
 }
 
@@ -75,6 +76,11 @@ void FrameJob::addSample(const Sample& smp, PixelSums& ps, RayStats& st) const {
   }
   ps.alpha += smp.alpha;
   ps.err += smp.truncationBound;
+  // The calibrated estimate's second half (image/error_estimate.h): samples are added in index order
+  if (sampleHalf(ps.added++, ps.strata)) {
+    ps.sumOdd += smp.color;
+    ++ps.nOdd;
+  }
 }
 
 void FrameJob::writePixel(std::size_t idx, const PixelSums& ps, RayStats& st) {
@@ -96,6 +102,7 @@ void FrameJob::writePixel(std::size_t idx, const PixelSums& ps, RayStats& st) {
   const float headroom = 1.0f - std::clamp(std::min(std::min(out.x, out.y), out.z), 0.0f, 1.0f);
   fb_.truncation[idx] = std::min(headroom, ps.err * inv);
   fb_.sampling[idx] = n > 1 ? samplingEstimate(ps.sum, ps.sum2, n) : 0.0f;
+  fb_.samplingRms[idx] = calibratedSampling(ps.sum, ps.sumOdd, n, ps.nOdd);  // one sample: see estimateErrors
   hitMask_[idx] = ps.anyHit ? 1 : 0;
 }
 

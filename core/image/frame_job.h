@@ -65,6 +65,8 @@ class FrameJob {
   void estimateErrors(FrameStats& fs);
   /// The sampling estimate of a tile's pixels from their neighbours (see kSamplingConfidence).
   void estimateFromNeighbours(int tileSlot);
+  /// FrameBuffer::samplingRms of the several-sample pixels: their half differences pooled over 3 x 3 pixels.
+  void poolCalibrated();
   /// FrameStats::truncation, sampling and total from the frame buffer's traced pixels.
   void summarizeErrors(FrameStats& fs) const;
 
