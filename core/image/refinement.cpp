@@ -193,10 +193,14 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
     }
     int cutBucket = kBuckets;
     for (double sum = 0.0; cutBucket > 0 && sum < roundRays;) sum += bucketRays[std::size_t(--cutBucket)];
+    // The estimate is under the target but for the one-sample pixels: this round gives all of them (and only
+    // them) their grids, whatever the round's size
+    const bool singlesOnly = s_.targetError > 0.0 && fs.calibrated.rms <= s_.targetError;
     std::size_t marked = 0;
     for (std::size_t i = 0; i < acc_.size(); ++i) {
       const Choice& c = choices[i];
-      marks_[i] = c.action != kKeep && bucketOf(c.gainPerRay) >= cutBucket ? c.action : uint8_t(kKeep);
+      const bool take = singlesOnly ? single(i) : bucketOf(c.gainPerRay) >= cutBucket;
+      marks_[i] = c.action != kKeep && take ? c.action : uint8_t(kKeep);
       marked += marks_[i] != kKeep;
     }
     if (marked == 0) {
