@@ -28,6 +28,7 @@ void vtkWhittedFrameStatistics::Reset()
   for (int k = 0; k < 3; ++k)
   {
     this->TruncationError[k] = this->SamplingError[k] = this->EstimatedError[k] = 0.0;
+    this->SamplingRMSError[k] = this->RMSError[k] = 0.0;
   }
   this->NumberOfSamples = 0;
   this->RefinementRounds = 0;
@@ -82,9 +83,11 @@ void vtkWhittedFrameStatistics::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfTimeCacheEntries: " << this->NumberOfTimeCacheEntries << "\n";
   os << indent << "TimeCacheBytes: " << this->TimeCacheBytes << "\n";
   os << indent << "NumberOfSafetyNetCatches: " << this->NumberOfSafetyNetCatches << "\n";
-  const double* errors[3] = { this->TruncationError, this->SamplingError, this->EstimatedError };
-  const char* names[3] = { "TruncationError", "SamplingError", "EstimatedError" };
-  for (int k = 0; k < 3; ++k)
+  const double* errors[5] = { this->TruncationError, this->SamplingError, this->EstimatedError,
+    this->SamplingRMSError, this->RMSError };
+  const char* names[5] = { "TruncationError", "SamplingError", "EstimatedError", "SamplingRMSError",
+    "RMSError" };
+  for (int k = 0; k < 5; ++k)
   {
     os << indent << names[k] << " (RMS, p95, max): " << errors[k][0] << " " << errors[k][1] << " "
        << errors[k][2] << "\n";

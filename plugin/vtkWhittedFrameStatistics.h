@@ -153,11 +153,19 @@ public:
    * has reflectance + transmittance 1 and its own colour, at depth 16);
    * SamplingError, the anti-aliasing estimate (two standard errors of each pixel's mean, about 95%
    * confidence; one-sample pixels: from their neighbours; 0 for interactive frames);
-   * EstimatedError, their per-pixel sum: what TargetError is compared with (its RMS).
+   * EstimatedError, their per-pixel sum (at least 95% per pixel: a bound, not an RMS estimate);
+   * SamplingRMSError, the calibrated sampling estimate: an estimate of each pixel's RMS error (1 sigma,
+   * about 68%: not a bound), from the difference of the two interleaved halves of its samples,
+   * unbiased for stratified samples (one-sample pixels: as SamplingError);
+   * RMSError, TruncationError and SamplingRMSError in quadrature per pixel: its RMS (RMSError[0]) is
+   * the calibrated estimate of the image's RMS error (largest channel per pixel), what TargetError is
+   * compared with.
    */
   vtkGetVector3Macro(TruncationError, double);
   vtkGetVector3Macro(SamplingError, double);
   vtkGetVector3Macro(EstimatedError, double);
+  vtkGetVector3Macro(SamplingRMSError, double);
+  vtkGetVector3Macro(RMSError, double);
   ///@}
 
   ///@{
@@ -244,6 +252,8 @@ protected:
   double TruncationError[3] = { 0.0, 0.0, 0.0 };
   double SamplingError[3] = { 0.0, 0.0, 0.0 };
   double EstimatedError[3] = { 0.0, 0.0, 0.0 };
+  double SamplingRMSError[3] = { 0.0, 0.0, 0.0 };
+  double RMSError[3] = { 0.0, 0.0, 0.0 };
   vtkTypeUInt64 NumberOfSamples = 0;
   int RefinementRounds = 0;
   bool TargetErrorMet = false;

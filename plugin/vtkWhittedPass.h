@@ -108,7 +108,8 @@ public:
    * TargetError, TimeBudget: progressive refinement of still frames, steered by the per-pixel error
    * estimate (GetLastErrorImage): the pixels whose estimate is largest get more samples, or are
    * traced again at a deeper depth and lower threshold where the truncation bound dominates, until
-   * the estimated error's RMS is at most TargetError or TimeBudget seconds of tracing are spent.
+   * the calibrated RMS estimate (vtkWhittedFrameStatistics::GetRMSError) is at most TargetError or
+   * TimeBudget seconds of tracing are spent.
    * ShowErrorImage, ErrorImageScale: draw the estimated error (grey = scale x error) instead of
    * the rendering.
    * NumberOfThreads: tracing threads; 0 = every core the process may run on.
@@ -249,9 +250,11 @@ public:
    * channel): point arrays "TruncationError" (an upper bound on what MaxDepth and
    * ContributionThreshold left out), "SamplingError" (the anti-aliasing estimate: two standard
    * errors of the pixel's mean with several samples, about 95% confidence; from the neighbours
-   * with one sample), "EstimatedError" (their sum, capped at 1; the active scalars) and "Samples"
-   * (camera samples per pixel). Interactive frames leave SamplingError 0. Empty after a failed
-   * frame.
+   * with one sample), "EstimatedError" (their sum, capped at 1; the active scalars), "Samples"
+   * (camera samples per pixel), "SamplingRMSError" (the calibrated sampling estimate: the pixel's RMS
+   * error, 1 sigma, from the two interleaved halves of its samples) and "RMSError" (TruncationError
+   * and SamplingRMSError in quadrature: the RMS over the image is what TargetError is compared
+   * with). Interactive frames leave SamplingError 0. Empty after a failed frame.
    */
   void GetLastErrorImage(vtkImageData* image);
 

@@ -62,10 +62,11 @@ void vtkWhittedPassInternals::RecordStatistics(
   st->NumberOfSafetyNetCatches = rays.safetyNetCatches();
   st->Aborted = r.Trace.aborted;
   st->Failed = false;
-  const whitted::ErrorSummary* summaries[3] = { &r.Trace.truncation, &r.Trace.sampling,
-    &r.Trace.total };
-  double* fields[3] = { st->TruncationError, st->SamplingError, st->EstimatedError };
-  for (int k = 0; k < 3; ++k)
+  const whitted::ErrorSummary* summaries[5] = { &r.Trace.truncation, &r.Trace.sampling,
+    &r.Trace.total, &r.Trace.calibratedSampling, &r.Trace.calibrated };
+  double* fields[5] = { st->TruncationError, st->SamplingError, st->EstimatedError,
+    st->SamplingRMSError, st->RMSError };
+  for (int k = 0; k < 5; ++k)
   {
     fields[k][0] = summaries[k]->rms;
     fields[k][1] = summaries[k]->p95;
@@ -151,12 +152,14 @@ void vtkWhittedPass::GetLastErrorImage(vtkImageData* image)
   const whitted::FrameBuffer& fb = this->Internals->Frame;
   const vtkIdType n = static_cast<vtkIdType>(fb.width) * fb.height;
   const bool valid = n > 0 && fb.truncation.size() == static_cast<size_t>(n) &&
-    fb.sampling.size() == static_cast<size_t>(n) && fb.samples.size() == static_cast<size_t>(n);
+    fb.sampling.size() == static_cast<size_t>(n) && fb.samplingRms.size() == static_cast<size_t>(n) &&
+    fb.samples.size() == static_cast<size_t>(n);
   image->Initialize();
   image->SetDimensions(valid ? fb.width : 0, valid ? fb.height : 0, valid ? 1 : 0);
-  const char* names[4] = { "TruncationError", "SamplingError", "EstimatedError", "Samples" };
-  vtkNew<vtkFloatArray> arrays[4];
-  for (int k = 0; k < 4; ++k)
+  const char* names[6] = { "TruncationError", "SamplingError", "EstimatedError", "Samples",
+    "SamplingRMSError", "RMSError" };
+  vtkNew<vtkFloatArray> arrays[6];
+  for (int k = 0; k < 6; ++k)
   {
     arrays[k]->SetName(names[k]);
     arrays[k]->SetNumberOfTuples(valid ? n : 0);
@@ -167,8 +170,10 @@ void vtkWhittedPass::GetLastErrorImage(vtkImageData* image)
     arrays[1]->SetValue(i, fb.sampling[i]);
     arrays[2]->SetValue(i, whitted::totalEstimate(fb.truncation[i], fb.sampling[i]));
     arrays[3]->SetValue(i, static_cast<float>(fb.samples[i]));
+    arrays[4]->SetValue(i, fb.samplingRms[i]);
+    arrays[5]->SetValue(i, whitted::calibratedTotal(fb.truncation[i], fb.samplingRms[i]));
   }
-  for (int k = 0; k < 4; ++k)
+  for (int k = 0; k < 6; ++k)
   {
     image->GetPointData()->AddArray(arrays[k]);
   }

@@ -51,7 +51,42 @@ class ErrorHistogram {
 
 void FrameJob::estimateErrors(FrameStats& fs) {
   if (!tiles_.aborted()) runPass([&](int tile) { estimateFromNeighbours(tile); }, false, false);
+  poolCalibrated();
   summarizeErrors(fs);
+}
+
+// The calibrated estimate pooled over 3 x 3 pixels (error_estimate.h): each pixel's half difference gives one
+// noisy estimate of the variance of one sample there, n (A - B)^2 nA nB / n^2; a pixel takes the mean of those of
+// its traced several-sample neighbours (itself included) over its own n. A box filter keeps the image's sum of
+// variances at equal sample counts, so the RMS stays unbiased, and refinement, which picks pixels by this estimate,
+// no longer picks the pixels whose own difference came out large by chance (and leaves those whose came out small):
+// that choice alone made the refined image's estimate fall below its measured error.
+void FrameJob::poolCalibrated() {
+  const std::size_t size = std::size_t(w_) * h_;
+  std::vector<float> perSample(size, -1.0f);  // -1: no estimate (not traced, or one sample)
+  for (std::size_t i = 0; i < size; ++i) {
+    const int n = fb_.samples[i];
+    if (!fb_.traced[i] || n < 2) continue;
+    const float e = progressive_ ? calibratedSampling(acc_[i].sum, acc_[i].sumOdd, acc_[i].n, acc_[i].nOdd)
+                                 : fb_.samplingRms[i];
+    perSample[i] = float(n) * e * e;
+  }
+  for (int y = 0; y < h_; ++y)
+    for (int x = 0; x < w_; ++x) {
+      const std::size_t i = index(x, y);
+      if (perSample[i] < 0.0f) continue;
+      double sum = 0.0;
+      int count = 0;
+      for (int v = std::max(0, y - 1); v <= std::min(h_ - 1, y + 1); ++v)
+        for (int u = std::max(0, x - 1); u <= std::min(w_ - 1, x + 1); ++u) {
+          const float p = perSample[index(u, v)];
+          if (p >= 0.0f) {
+            sum += p;
+            ++count;
+          }
+        }
+      fb_.samplingRms[i] = std::min(1.0f, float(std::sqrt(sum / count / fb_.samples[i])));
+    }
 }
 
 void FrameJob::estimateFromNeighbours(int tileSlot) {
@@ -76,6 +111,7 @@ void FrameJob::estimateFromNeighbours(int tileSlot) {
                             traced[i - w_] && traced[i + w_];
       if (!interior) {
         sampling[i] = std::min(1.0f, std::max(spread, scale * unpredicted(x, y).second));
+        if (n == 1) fb_.samplingRms[i] = sampling[i];
         continue;
       }
       // Performance note: the common case without unpredicted()'s border logic, the four channels at once in
@@ -92,20 +128,25 @@ void FrameJob::estimateFromNeighbours(int tileSlot) {
       m = _mm_max_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(2, 3, 0, 1)));
       const float d = _mm_cvtss_f32(m);
       sampling[i] = std::min(1.0f, std::max(spread, scale * d));
+      if (n == 1) fb_.samplingRms[i] = sampling[i];  // the calibrated estimate of one sample: the neighbour rule
     }
 }
 
 void FrameJob::summarizeErrors(FrameStats& fs) const {
-  ErrorHistogram truncation, sampling, total;
+  ErrorHistogram truncation, sampling, total, calibratedSampling, calibrated;
   for (std::size_t i = 0; i < fb_.traced.size(); ++i) {
     if (!fb_.traced[i]) continue;
     truncation.add(fb_.truncation[i]);
     sampling.add(fb_.sampling[i]);
     total.add(totalEstimate(fb_.truncation[i], fb_.sampling[i]));
+    calibratedSampling.add(fb_.samplingRms[i]);
+    calibrated.add(calibratedTotal(fb_.truncation[i], fb_.samplingRms[i]));
   }
   fs.truncation = truncation.summary();
   fs.sampling = sampling.summary();
   fs.total = total.summary();
+  fs.calibratedSampling = calibratedSampling.summary();
+  fs.calibrated = calibrated.summary();
 }
 
 }  // namespace whitted

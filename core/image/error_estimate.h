@@ -24,6 +24,34 @@ struct ErrorSummary {
   double rms = 0.0, p95 = 0.0, max = 0.0;  ///< Root mean square, 95th percentile (to 1/4096) and largest value.
 };
 
+/// The calibrated RMS estimate (FrameBuffer::samplingRms, FrameStats::calibrated), beside the bound above: an
+/// estimate of the pixel's root mean square error, not a bound. A pixel with n >= 2 samples sums them in two
+/// interleaved halves (sampleHalf in image/sampling.h: a checkerboard of its stratified grid, then alternate samples
+/// of its sequence); with half means A (nA samples) and B (nB), (A - B)^2 nA nB / n^2 is an estimate of the squared
+/// error of the pixel's mean (A + B)/2 that stays unbiased for stratified samples (each half is itself spread over
+/// the pixel, so their difference has the stratified mean's spread, where the sample variance above has the
+/// spread of independent samples), as in Dammertz et al. 2010 and Cycles' adaptive sampling. A one-sample pixel
+/// takes the neighbour rule above. Per pixel it combines with the truncation bound in quadrature (calibratedTotal:
+/// the bias and the random part of an error add as squares), and the image's RMS of that is the figure TargetError
+/// is compared with. It is a 1-sigma (mean square) estimate, with no coverage probability per pixel: about a third
+/// of the pixels are above it.
+constexpr double kCalibratedConfidence = 0.68;
+
+/// The calibrated sampling estimate of a pixel from the sums of its two halves (sumOdd over nOdd samples, the rest
+/// of sum over n - nOdd): |A - B| sqrt(nA nB) / n, largest channel, at most 1; 0 for fewer than 2 samples or an
+/// empty half.
+inline float calibratedSampling(const Color& sum, const Color& sumOdd, int n, int nOdd) {
+  const int nEven = n - nOdd;
+  if (n < 2 || nOdd < 1 || nEven < 1) return 0.0f;
+  const Color d = glm::abs((sum - sumOdd) / float(nEven) - sumOdd / float(nOdd));
+  return std::min(1.0f, maxComponent(d) * std::sqrt(float(nEven) * float(nOdd)) / float(n));
+}
+
+/// A pixel's calibrated total: truncation bound and calibrated sampling estimate in quadrature, at most 1.
+inline float calibratedTotal(float truncation, float sampling) {
+  return std::min(1.0f, std::sqrt(truncation * truncation + sampling * sampling));
+}
+
 /// A pixel's total error estimate from its two parts (FrameBuffer::truncation and sampling), in the units of
 /// the clamped colour: their sum, at most 1. Every user of the total (summaries, refinement, error images) takes
 /// it from here.

@@ -1,7 +1,7 @@
 // The film: per-pixel sums of camera samples (PixelSums) and the frame buffer written from them. Samples are
 // traced here into the sums (positions from image/sampling.h); a pixel's colour, depth and error estimates are
 // its sums' means.
-#include "image/error_estimate.h"  // samplingEstimate
+#include "image/error_estimate.h"  // samplingEstimate, calibratedSampling
 #include "image/frame_job.h"
 #include "image/sampling.h"
 
@@ -19,13 +19,15 @@ void FrameBuffer::resize(int w, int h) {
   traced.assign(n, 0);
   truncation.assign(n, 0.0f);
   sampling.assign(n, 0.0f);
+  samplingRms.assign(n, 0.0f);  // the calibrated estimate (error_estimate.h)
   samples.assign(n, 0);
 }
 
 bool FrameBuffer::sized(int w, int h) const {
   const std::size_t n = std::size_t(std::max(0, w)) * std::max(0, h);
   return width == std::max(0, w) && height == std::max(0, h) && color.size() == n && depth.size() == n &&
-         traced.size() == n && truncation.size() == n && sampling.size() == n && samples.size() == n;
+         traced.size() == n && truncation.size() == n && sampling.size() == n && samplingRms.size() == n &&
+         samples.size() == n;
 }
 
 void FrameBuffer::clearPixel(std::size_t i) {
@@ -34,6 +36,7 @@ void FrameBuffer::clearPixel(std::size_t i) {
   traced[i] = 0;
   truncation[i] = 0.0f;
   sampling[i] = 0.0f;
+  samplingRms[i] = 0.0f;
   samples[i] = 0;
 }
 
@@ -102,6 +105,11 @@ void FrameJob::addSample(const Sample& smp, PixelSums& ps, RayStats& st) const {
   }
   ps.alpha += smp.alpha;
   ps.err += smp.truncationBound;
+  // The calibrated estimate's second half (image/error_estimate.h): samples are added in index order
+  if (sampleHalf(ps.added++, ps.strata)) {
+    ps.sumOdd += smp.color;
+    ++ps.nOdd;
+  }
 }
 
 FrameJob::FilmPixel FrameJob::resolvePixel(const PixelSums& ps, RayStats& st) const {
@@ -122,6 +130,7 @@ FrameJob::FilmPixel FrameJob::resolvePixel(const PixelSums& ps, RayStats& st) co
   const float headroom = 1.0f - std::clamp(std::min(std::min(p.color.x, p.color.y), p.color.z), 0.0f, 1.0f);
   p.truncation = std::min(headroom, ps.err * inv);
   p.sampling = n > 1 ? samplingEstimate(ps.sum, ps.sum2, n) : 0.0f;
+  p.samplingRms = calibratedSampling(ps.sum, ps.sumOdd, n, ps.nOdd);  // one sample: see estimateErrors
   p.hit = ps.anyHit ? 1 : 0;
   return p;
 }
@@ -133,6 +142,7 @@ void FrameJob::storePixel(std::size_t idx, const FilmPixel& p) {
   fb_.samples[idx] = p.samples;
   fb_.truncation[idx] = p.truncation;
   fb_.sampling[idx] = p.sampling;
+  fb_.samplingRms[idx] = p.samplingRms;
   hitMask_[idx] = p.hit;
 }
 

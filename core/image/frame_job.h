@@ -45,7 +45,7 @@ class FrameJob {
   /// What the frame buffer gets for a pixel (and hitMask_).
   struct FilmPixel {
     Color4 color{0.0f};
-    float depth = 1.0f, truncation = 0.0f, sampling = 0.0f;
+    float depth = 1.0f, truncation = 0.0f, sampling = 0.0f, samplingRms = 0.0f;
     uint16_t samples = 0;
     uint8_t hit = 0;
   };
@@ -82,6 +82,8 @@ class FrameJob {
   void estimateErrors(FrameStats& fs);
   /// The sampling estimate of a tile's pixels from their neighbours (see kSamplingConfidence).
   void estimateFromNeighbours(int tileSlot);
+  /// FrameBuffer::samplingRms of the several-sample pixels: their half differences pooled over 3 x 3 pixels.
+  void poolCalibrated();
   /// FrameStats::truncation, sampling and total from the frame buffer's traced pixels.
   void summarizeErrors(FrameStats& fs) const;
 

@@ -4,7 +4,7 @@
 // refinement measures to steer by: image/refinement.h.
 #include "image/refinement.h"
 
-#include "image/error_estimate.h"  // kSamplingStandardErrors, totalEstimate
+#include "image/error_estimate.h"  // calibratedTotal
 #include "image/frame_job.h"
 
 #include <algorithm>
@@ -61,7 +61,7 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
   if (s_.refinementSlice > 0.0)
     tiles_.setSliceEnd(start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                    std::chrono::duration<double>(s_.refinementSlice)));
-  if (fs.progress.empty()) fs.progress.emplace_back(elapsed(), fs.total.rms);
+  if (fs.progress.empty()) fs.progress.emplace_back(elapsed(), fs.calibrated.rms);
   // A round an earlier call cut short: its pixels still to refine, finished before anything else
   bool pending = keep && keep->pending.size() == std::size_t(w_) * h_;
   if (pending)
@@ -71,12 +71,21 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
   if (keep) keep->pending.clear();
   coarse_ = makeCoarse();
   const int maxLevel = loosestLevel(s_.integrator);
+  // A pixel with one sample has no calibrated estimate (its neighbour rule cannot see a thin feature its centre
+  // sample missed): the target is met only when every traced pixel has its grid (a sample minimum, as Cycles'),
+  // and such pixels stay candidates whatever their estimate (kMinimumVariance)
+  auto single = [&](std::size_t i) { return fb_.traced[i] && acc_[i].n == 1 && maxSamples >= kFirstStrata; };
+  auto anySingle = [&] {
+    for (std::size_t i = 0; i < acc_.size(); ++i)
+      if (single(i)) return true;
+    return false;
+  };
   int rounds = 0;
   bool worked = false;  // this call has refined something (a call always does, whatever its slice)
   fs.refinementFinished = false;
   for (;;) {
     // (a pending round is finished first: the image it left half refined may meet the target early)
-    fs.targetMet = s_.targetError > 0.0 && fs.total.rms <= s_.targetError;
+    fs.targetMet = s_.targetError > 0.0 && fs.calibrated.rms <= s_.targetError && !anySingle();
     if ((fs.targetMet && !pending) || tiles_.pastDeadline()) {
       fs.refinementFinished = true;
       break;
@@ -96,15 +105,17 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
     }
     // What each pixel can still get: more samples (if its samples disagree), a looser level (if anything was
     // cut)
-    auto canSample = [&](std::size_t i) { return acc_[i].n < maxSamples && fb_.sampling[i] > 0.0f; };
+    auto canSample = [&](std::size_t i) {
+      return acc_[i].n < maxSamples && (fb_.sampling[i] > 0.0f || single(i));
+    };
     auto canLoosen = [&](std::size_t i) { return acc_[i].level < maxLevel && fb_.truncation[i] > 0.0f; };
-    auto estimate = [&](std::size_t i) { return totalEstimate(fb_.truncation[i], fb_.sampling[i]); };
-    // What refining a pixel gains per ray it costs, for each way to refine it: the drop of its expected squared
-    // error (the share of the image's squared error it can remove) over the rays it will take (its own rays per
-    // sample so far, for a looser level times the growth measured on the pixels loosened before). Picks the
-    // better way per pixel. The truncation part is systematic and the sampling part random (the estimate is
-    // kSamplingStandardErrors standard errors), so their squares add: samples remove only the sampling part's
-    // variance, a looser level only the truncation part.
+    auto estimate = [&](std::size_t i) { return calibratedTotal(fb_.truncation[i], fb_.samplingRms[i]); };
+    // What refining a pixel gains per ray it costs (rays: the proxy for time), for each way to refine it: the
+    // drop of its expected squared error (the share of the image's squared error it can remove) over the rays it
+    // will take (its own rays per sample so far, for a looser level times the growth measured on the pixels
+    // loosened before). Picks the better way per pixel. The truncation part is systematic and the sampling part
+    // random, so their squares add (as in calibratedTotal): samples remove only the sampling part's variance (the
+    // calibrated estimate squared), a looser level only the truncation part.
     std::vector<float> loosenGrowth(std::size_t(maxLevel) + 2), share(std::size_t(maxLevel) + 2), gridGrowth(2);
     for (int l = -1; l <= maxLevel; ++l) {
       loosenGrowth[std::size_t(l + 1)] = measures_.loosenGrowth(l);
@@ -119,7 +130,8 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
       const PixelSums& ps = acc_[i];
       // The truncation bound scaled by the share of it that loosening changed so far at this level
       const float t = fb_.truncation[i] * share[std::size_t(ps.level + 1)], smp = fb_.sampling[i];
-      const float variance = (smp / kSamplingStandardErrors) * (smp / kSamplingStandardErrors);
+      const float floor = single(i) ? float(kMinimumVariance * s_.targetError * s_.targetError) : 0.0f;
+      const float variance = std::max(floor, fb_.samplingRms[i] * fb_.samplingRms[i]);
       const float raysPerSample = std::max(1.0f, float(ps.rays)) / float(ps.n);
       Choice c;
       if (canSample(i)) {
@@ -171,7 +183,8 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
       return std::clamp(int(std::floor(kBucketsPerOctave * std::log2(g))) + kBuckets / 2, 0, kBuckets - 1);
     };
     for (std::size_t i = 0; i < acc_.size(); ++i) {
-      if (!fb_.traced[i] || estimate(i) < least || estimate(i) <= 0.0f || !(canSample(i) || canLoosen(i))) continue;
+      if (!fb_.traced[i] || !(canSample(i) || canLoosen(i))) continue;
+      if (!single(i) && (estimate(i) < least || estimate(i) <= 0.0f)) continue;
       choices[i] = choose(i);
       if (choices[i].action != kKeep && choices[i].gainPerRay > 0.0f)
         bucketRays[std::size_t(bucketOf(choices[i].gainPerRay))] += choices[i].rays;
@@ -180,10 +193,14 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
     }
     int cutBucket = kBuckets;
     for (double sum = 0.0; cutBucket > 0 && sum < roundRays;) sum += bucketRays[std::size_t(--cutBucket)];
+    // The estimate is under the target but for the one-sample pixels: this round gives all of them (and only
+    // them) their grids, whatever the round's size
+    const bool singlesOnly = s_.targetError > 0.0 && fs.calibrated.rms <= s_.targetError;
     std::size_t marked = 0;
     for (std::size_t i = 0; i < acc_.size(); ++i) {
       const Choice& c = choices[i];
-      marks_[i] = c.action != kKeep && bucketOf(c.gainPerRay) >= cutBucket ? c.action : uint8_t(kKeep);
+      const bool take = singlesOnly ? single(i) : bucketOf(c.gainPerRay) >= cutBucket;
+      marks_[i] = c.action != kKeep && take ? c.action : uint8_t(kKeep);
       marked += marks_[i] != kKeep;
     }
     if (marked == 0) {
@@ -234,7 +251,7 @@ void FrameJob::finishRound(FrameStats& fs, int& rounds, double seconds) {
   ++fs.refinementRounds;
   ++rounds;
   estimateErrors(fs);
-  fs.progress.emplace_back(seconds, fs.total.rms);
+  fs.progress.emplace_back(seconds, fs.calibrated.rms);
 }
 
 // The coarse level -1 of extra samples: the contribution threshold x kCoarseFactor (at most kCoarseThreshold,

@@ -25,6 +25,10 @@ constexpr double kBudgetRoundsLeft = 1.5;
 /// A pixel is refined only if its total estimate is at least this share of the target error (refining pixels
 /// already well below the target does little for the RMS).
 constexpr double kLeastEstimateShare = 0.5;
+/// The least squared sampling estimate a one-sample pixel is ranked by, as a share of the squared target: such
+/// a pixel must get its grid before the target counts as met (its neighbour rule may miss a thin feature), so it
+/// stays a candidate even where its neighbours predict it.
+constexpr double kMinimumVariance = 4.0;
 /// Priority buckets of a round's selection (pixels ranked by gain per ray), each 1 / kBucketsPerOctave of an
 /// octave of gain per ray, centred on a gain per ray of 1.
 constexpr int kBuckets = 512;

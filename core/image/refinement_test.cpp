@@ -30,33 +30,39 @@ struct ClassicFirstPass {
   }
 };
 
-// TargetError: refinement stops as soon as the estimated total RMS is at most the target. A target above the
-// first pass's estimate adds no sample; a reachable one is met with fewer samples than a tighter one, and
-// never with every pixel at the maximum.
+// TargetError: refinement stops as soon as the calibrated RMS estimate is at most the target (and every pixel has
+// several samples: from 4 spp on). A target above the first pass's estimate adds no sample; a reachable one is met
+// with fewer samples than a tighter one, and never with every pixel at the maximum.
 TEST(ErrorEstimate, TargetErrorStopsRefiningWhenMet) {
   const ClassicFirstPass c;
   const Scene& s = c.s;
   const Camera& cam = c.cam;
-  const FrameStats& first = c.first;
   const int w = c.w, h = c.h;
   RenderSettings rs;
+  rs.samplesPerPixel = 4;
   FrameBuffer fb;
-  ASSERT_GT(first.total.rms, 0.0);
-  ASSERT_LT(first.truncation.rms, 0.4 * first.total.rms);  // the targets below are within the samples' reach
+  const FrameStats first = render(s, cam, rs, w, h, fb);
+  ASSERT_GT(first.calibrated.rms, 0.0);
+  ASSERT_LT(first.truncation.rms, 0.4 * first.calibrated.rms);  // the targets below are within the samples' reach
 
-  rs.targetError = first.total.rms * 1.01;  // already met by the first pass
+  rs.targetError = first.calibrated.rms * 1.01;  // already met by the first pass
   FrameStats met = render(s, cam, rs, w, h, fb);
   EXPECT_TRUE(met.targetMet);
   EXPECT_EQ(met.refinementRounds, 0);
-  EXPECT_EQ(met.samples, uint64_t(w * h));
+  EXPECT_EQ(met.samples, uint64_t(4 * w * h));
+
+  // At 1 spp the first pass cannot meet it: one-sample pixels have no calibrated estimate
+  RenderSettings one;
+  one.targetError = rs.targetError;
+  EXPECT_GT(render(s, cam, one, w, h, fb).refinementRounds, 0);
 
   uint64_t previous = 0;
   for (double factor : {0.7, 0.4}) {
-    rs.targetError = first.total.rms * factor;
+    rs.targetError = first.calibrated.rms * factor;
     FrameBuffer out;
     const FrameStats fs = render(s, cam, rs, w, h, out);
     EXPECT_TRUE(fs.targetMet) << factor;
-    EXPECT_LE(fs.total.rms, rs.targetError) << factor;
+    EXPECT_LE(fs.calibrated.rms, rs.targetError) << factor;
     EXPECT_GT(fs.refinementRounds, 0) << factor;
     // Stopped when met: the round before did not meet it (else it would have stopped there)
     ASSERT_GE(fs.progress.size(), 2u);

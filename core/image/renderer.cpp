@@ -76,7 +76,7 @@ FrameStats FrameJob::run() {
       }
       const double before = resume ? keep->seconds : 0.0;
       if (resume && keep->finished)
-        fs.targetMet = s_.targetError > 0.0 && fs.total.rms <= s_.targetError;
+        fs.targetMet = s_.targetError > 0.0 && fs.calibrated.rms <= s_.targetError;
       else
         refine(start, before, fs, keep);
     }

@@ -25,6 +25,10 @@ struct FrameBuffer {
   ///   image traced without threshold and at infinite depth, or see IntegratorSettings::truncationReferenceDepth);
   /// - sampling: an estimate of the pixel's anti-aliasing error (see kSamplingConfidence).
   std::vector<float> truncation, sampling;
+  /// The calibrated sampling estimate (an RMS estimate, not a bound; see kCalibratedConfidence): from the two
+  /// interleaved halves of a pixel's samples; for a one-sample pixel, sampling (the neighbour rule). 0 where not
+  /// traced.
+  std::vector<float> samplingRms;
   std::vector<uint16_t> samples;  ///< Camera samples taken per pixel.
   /// Sets the size and clears every pixel (colour 0, depth 1, not traced).
   void resize(int w, int h);
@@ -40,6 +44,8 @@ constexpr int kMaxLoosening = 3;
 /// Running sums of one pixel's camera samples, kept for progressive refinement.
 struct PixelSums {
   Color sum{0.0f}, sum2{0.0f};                   ///< Sum of the samples' colours and of their squares.
+  Color sumOdd{0.0f};  ///< Sum of the colours of the samples of half 1 (sampleHalf; the calibrated estimate).
+  int added = 0, nOdd = 0;  ///< Samples added to these sums since they were cleared, and of them in half 1.
   float alpha = 0.0f, err = 0.0f, depth = 1.0f;  ///< Sums of alpha and truncation bounds; nearest depth.
   int n = 0;                                     ///< Samples summed (0: the pixel is not traced by this process).
   int strata = 1;  ///< Samples of the first pass (a stratified grid); later samples continue a 2D sequence.
@@ -86,22 +92,26 @@ struct RenderSettings {
   /// FrameBuffer::sampling is the samples' spread alone (0 for one-sample pixels), the summaries are 0. Default on.
   bool errorEstimates = true;
   /// Progressive refinement of a still frame (with errorEstimates): after the first pass, rounds refine the
-  /// pixels where refining removes the most estimated squared error per ray it costs, until the RMS of the
-  /// per-pixel total estimate is at most targetError, the frame has taken timeBudget seconds, or no pixel can be
-  /// refined. Either at 0 (the default) leaves it out; both 0: no refinement. A pixel can get more samples (a
+  /// pixels where refining removes the most estimated squared error per ray it costs, until the calibrated RMS
+  /// estimate (FrameStats::calibrated.rms, not the bound total) is at most targetError and every traced pixel has
+  /// at least its 2x2 grid (a one-sample pixel has no calibrated estimate; with maxProgressiveSamples >= 4), the
+  /// frame has taken timeBudget seconds, or no pixel can be refined. Either at 0 (the default) leaves it out;
+  /// both 0: no refinement. A pixel can get more samples (a
   /// pixel with only its centre sample a jittered 2x2 grid instead, as adaptive sampling does, traced at the
   /// coarse level -- contribution threshold x 16, at most 64/255, never below the frame's -- when its sampling
   /// estimate is over 4x its truncation part; any other pixel twice its samples at its level, continuing a
   /// low-discrepancy sequence, R2 rotated per pixel, after its stratified grid), or be traced again with its
   /// samples at the next loosening level (maxDepth doubled, at least +2, up to 64; contribution threshold / 16; at
   /// most kMaxLoosening levels). Each way's gain is the drop of the pixel's squared estimate (truncation part +
-  /// sampling estimate), its cost the rays it takes (the pixel's rays per sample so far; for a grid or a looser
-  /// level times the growth measured on the pixels refined so far); the truncation part is the bound scaled by the
-  /// share of it that loosening actually changed on the pixels loosened so far from that level (the bound is an
-  /// upper bound, up to 40x the measured truncation on glass; the estimate reported stays the bound). Each pixel
-  /// takes its better way; a round takes the pixels with the most gain per ray (only those above half the target)
-  /// up to half the rays of the image so far, and with a timeBudget at most what the time left can trace at the
-  /// rate so far (the whole rest when less than 1.5 rounds are left).
+  /// calibrated sampling estimate, FrameBuffer::samplingRms, in quadrature; a one-sample pixel's at least twice
+  /// the target, see kMinimumVariance), its cost the rays it takes (the pixel's rays per sample so far; for a
+  /// grid or a looser level times the growth measured on the pixels refined so far); the truncation part is the
+  /// bound scaled by the share of it that loosening actually changed on the pixels loosened so far from that
+  /// level (the bound is an upper bound, up to 40x the measured truncation on glass; the truncation part reported
+  /// stays the bound). Each pixel takes its better way; a round takes the pixels with the most gain per ray (only
+  /// those above half the target, and one-sample pixels) up to half the rays of the image so far, and with a
+  /// timeBudget at most what the time left can trace at the rate so far (the whole rest when less than 1.5 rounds
+  /// are left).
   double targetError = 0.0;
   double timeBudget = 0.0;          ///< Seconds for the whole frame; checked between tiles (overshoot <= one tile).
   int maxProgressiveSamples = 256;  ///< Most samples a pixel gets from refinement. Default 256.
@@ -132,11 +142,16 @@ struct FrameStats {
   /// in samples, so the per-pixel counts of FrameBuffer::samples sum to samples).
   uint64_t samplesRetraced = 0;
   /// Per-pixel error estimates summarised over the traced pixels (FrameBuffer::truncation, sampling and their
-  /// sum per pixel, total).
+  /// sum per pixel, total): total is the honest bound (the sampling part about 95% per pixel, the truncation part
+  /// never under).
   ErrorSummary truncation, sampling, total;
+  /// The calibrated estimate (kCalibratedConfidence): calibratedSampling summarises FrameBuffer::samplingRms,
+  /// calibrated the per-pixel calibratedTotal(truncation, samplingRms). calibrated.rms estimates the image's
+  /// measured RMS error (largest channel per pixel); TargetError is compared with it.
+  ErrorSummary calibratedSampling, calibrated;
   bool aborted = false;
   /// Progressive refinement: rounds run, whether the target error was met (false without a target), and the
-  /// estimated total RMS after the first pass and after each round (with its elapsed seconds).
+  /// calibrated RMS estimate (calibrated.rms) after the first pass and after each round (with its elapsed seconds).
   int refinementRounds = 0;
   double longestTileSeconds = 0.0;  ///< Wall time of the slowest tile of any pass (the budget's granularity).
   bool targetMet = false;

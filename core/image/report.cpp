@@ -38,13 +38,16 @@ std::string frameReport(const FrameStats& f, const SceneStats& s, const CommitSt
       "  memory           BVH %zu nodes, %.2f MiB; geometry %.2f MiB\n"
       "  error estimate   truncation RMS %.3g, p95 %.3g, max %.3g (upper bound: what depth cap and threshold "
       "left out)\n"
-      "                   sampling RMS %.3g, p95 %.3g, max %.3g (anti-aliasing estimate); total RMS %.3g\n",
+      "                   sampling RMS %.3g, p95 %.3g, max %.3g (95%% per pixel); total RMS %.3g (bound)\n"
+      "                   calibrated RMS %.3g (sampling %.3g; a 1-sigma estimate of the RMS error, what "
+      "TargetError compares)\n",
       (unsigned long long)f.rays.primary, (unsigned long long)f.rays.shadow, (unsigned long long)f.rays.reflection,
       (unsigned long long)f.rays.refraction, mrays, (unsigned long long)f.rays.savedByThreshold,
       (unsigned long long)f.rays.savedByDepth, (unsigned long long)f.rays.boundRays, f.kernelReflection ? "on" : "off", f.kernelRefraction ? "on" : "off",
       f.kernelShadows ? "on" : "off", s.triangles, s.spheres, s.tubes, s.objects, s.instances, c.invalidPrimitives,
       s.bvhNodes, s.bvhBytes / 1048576.0, s.geometryBytes / 1048576.0, f.truncation.rms, f.truncation.p95,
-      f.truncation.max, f.sampling.rms, f.sampling.p95, f.sampling.max, f.total.rms);
+      f.truncation.max, f.sampling.rms, f.sampling.p95, f.sampling.max, f.total.rms, f.calibrated.rms,
+      f.calibratedSampling.rms);
   out.append(buf, std::size_t(n));
   // Safety nets: what they caught is counted, never silently hidden (all zero for valid input)
   n = std::snprintf(buf, sizeof buf,

@@ -21,6 +21,16 @@ inline Vec2 stratifiedSamplePos(int px, int py, int s, int n) {
   return Vec2(px + (cx + jx) / nx, py + (cy + jy) / ny);
 }
 
+/// Which half (0 or 1) sample s of a pixel whose first strata samples form a stratified grid is summed into for the
+/// calibrated sampling estimate (image/error_estimate.h): the grid's cells as a checkerboard (so each half spreads
+/// over the whole pixel), then the samples of the sequence alternately.
+inline int sampleHalf(int s, int strata) {
+  if (s >= strata) return (s - strata) & 1;
+  if (strata == 1) return 0;
+  const int nx = int(std::ceil(std::sqrt(double(strata))));
+  return ((s % nx) + (s / nx)) & 1;
+}
+
 /// Position of a pixel's k-th sample after its stratified grid (progressive refinement): the 2D R2
 /// low-discrepancy sequence (Roberts), rotated per pixel (Cranley-Patterson), so that every prefix of the extra
 /// samples covers the pixel evenly.

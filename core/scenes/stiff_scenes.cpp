@@ -97,4 +97,25 @@ void buildLightInGlassScene(Scene& s, CameraSpec& cam) {
   cam.viewAngle = 45.0;
 }
 
+void buildFenceScene(Scene& s, CameraSpec& cam) {
+  Material floor = diffuseMaterial(Color(0.5f, 0.55f, 0.6f), 0.5f);
+  addMesh(s, makeGrid(Vec3(-4, -0.5, 4), Vec3(8, 0, 0), Vec3(0, 0, -8), 1, 1), floor);
+  addSphere(s, Vec3(-0.7, 0.1, 0.2), 0.6, glass(0.9f, 0.1f, 1.5f, 0.05f));
+  // 24 posts 0.02 wide (about a third of a pixel at 160 x 120) on a line behind the sphere
+  const Material post = diffuseMaterial(Color(0.8f, 0.6f, 0.3f));
+  for (int k = 0; k < 24; ++k) {
+    const double x = -2.4 + 0.2 * k;
+    addMesh(s, makeBoxMesh(Vec3(x, -0.5, -1.2), Vec3(x + 0.02, 0.7, -1.18)), post);
+  }
+  addMesh(s, makeBoxMesh(Vec3(0.5, -0.5, -0.2), Vec3(1.2, 0.2, 0.5)), diffuseMaterial(Color(0.2f, 0.5f, 0.9f)));
+  s.lights().push_back(makePointLight(Vec3(2, 3, 2)));
+  Light fill = makePointLight(Vec3(-3, 2, 1));
+  fill.intensity = 0.5f;
+  s.lights().push_back(fill);
+  s.background = Color(0.15f, 0.2f, 0.3f);
+  cam.eye = Vec3(0.3, 1.2, 4.2);
+  cam.focal = Vec3(0, 0, -0.3);
+  cam.viewAngle = 40.0;
+}
+
 }  // namespace whitted

@@ -26,4 +26,9 @@ void buildNestedGlassScene(Scene& scene, CameraSpec& cam);
 /// two walls (transmittance 0.1225), so a threshold above that cuts the light they carry.
 void buildLightInGlassScene(Scene& scene, CameraSpec& cam);
 
+/// The error estimate's study scene (issue 28): a mirror floor (kr 0.5), a glass sphere (IOR 1.5), a fence of
+/// 24 thin posts (0.02 wide: under a pixel at 160 x 120, so sampling error dominates there), a cube, two point
+/// lights (the second at half intensity).
+void buildFenceScene(Scene& scene, CameraSpec& cam);
+
 }  // namespace whitted

@@ -25,6 +25,7 @@ int cmdBuild(const Args& a);   ///< BVH build time and memory, ours vs Embree, a
 int cmdFrame(const Args& a);   ///< whole frames (sizes x thread counts)
 int cmdUpdate(const Args& a);  ///< re-render cost after camera / material / transform / mesh edits
 int cmdError(const Args& a);   ///< error against a high-quality reference vs run time
+int cmdTarget(const Args& a);  ///< TargetError's calibrated estimate against an independent truth
 int cmdPov(const Args& a);     ///< writes a scene as POV-Ray 3.7 scene description
 int cmdDiff(const Args& a);    ///< image difference of two PNG files
 

@@ -33,7 +33,8 @@ struct Command {
 
 constexpr Command kCommands[] = {{"info", cmdInfo},     {"rays", cmdRays},   {"build", cmdBuild},
                                  {"frame", cmdFrame},   {"update", cmdUpdate}, {"error", cmdError},
-                                 {"mesh", cmdMesh},     {"pov", cmdPov},     {"diff", cmdDiff}};
+                                 {"mesh", cmdMesh},     {"pov", cmdPov},     {"diff", cmdDiff},
+                                 {"target", cmdTarget}};
 
 int usage() {
   std::fprintf(stderr, "usage: whitted_bench");

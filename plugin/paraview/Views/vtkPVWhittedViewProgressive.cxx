@@ -161,7 +161,7 @@ void vtkPVWhittedView::UpdateErrorAnnotation(bool interactive, int reduction)
       std::snprintf(status, sizeof status, "no target");
     }
     std::snprintf(text, sizeof text, "Whitted: %.0f ms, %.2f spp, error %.4f (RMS estimate)\n%s%s",
-      stats->GetRefinementSeconds() * 1e3, spp, stats->GetEstimatedError()[0], status,
+      stats->GetRefinementSeconds() * 1e3, spp, stats->GetRMSError()[0], status,
       stats->GetRefinementFinished() ? "" : ", refining");
   }
   this->ErrorAnnotationText = text;
