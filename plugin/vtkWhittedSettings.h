@@ -73,9 +73,13 @@
     "estimate, in colour units 0..1) is at most this value; 0 = no target. Interactive frames are " \
     "never refined.")                                                                              \
   X(Pass, double, TimeBudget, 0.0, 0.0, 3600.0,                                                    \
-    "Still frames: refine progressively (as for Target Error) for at most this many seconds of "   \
-    "tracing, stopping early when Target Error is met; 0 = no budget. The first pass always "      \
-    "completes; refinement stops within one tile's time of the budget.")                           \
+    "Still frames: refine progressively (as for Target Error) for at most this many seconds, "     \
+    "stopping early when Target Error is met; 0 = no budget. The seconds are those spent "         \
+    "rendering the frame: with Progressive Display all its renders together (as ray-traced "       \
+    "samples accumulate over renders until the camera, the data or a setting changes, which "      \
+    "starts the frame and its budget over); time between renders does not count. The first "       \
+    "pass always completes; refinement stops within one tile's time of the budget. The error "     \
+    "annotation shows the seconds spent of the budget.")                                           \
   X(Pass, bool, ShowErrorImage, false, false, true,                                               \
     "Show the per-pixel estimated error (truncation bound plus sampling estimate, as in Target "   \
     "Error) as grey levels instead of the rendering: grey = Error Image Scale x error, so white "   \

@@ -169,8 +169,13 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
       for (const RayStats& r : tileStats_) traced += r;
       const double spent = elapsed() - before;
       const double left = std::chrono::duration<double>(*tiles_.deadline() - std::chrono::steady_clock::now()).count();
-      if (spent > 0.0 && left > 0.0) {
-        const double affordable = double(traced.traversals()) / spent * left;
+      // This call's rate; a call that continues a frame has traced nothing yet: the earlier calls' rate (the image's
+      // rays over their seconds). A rate of 0 made an empty round, which ended the refinement (issue 28)
+      const double rate = traced.traversals() > 0 && spent > 0.0 ? double(traced.traversals()) / spent
+                          : before > 0.0                        ? imageRays / before
+                                                                : 0.0;
+      if (rate > 0.0 && left > 0.0) {
+        const double affordable = rate * left;
         if (kBudgetRoundsLeft * roundRays > affordable) roundRays = affordable;
       }
     }

@@ -1,6 +1,7 @@
 // Progressive refinement by the error estimate (refinement.cpp): TargetError stops when met, TimeBudget within a
 // tile's time, a target below the truncation bound loosens depth and threshold, a frame refined over several calls
-// (rounds cut short included) ends bit for bit where one call does, and pixels are picked by gain per ray.
+// (rounds cut short included, and with a time budget) ends bit for bit where one call does, and pixels are picked
+// by gain per ray.
 #include "image/renderer.h"
 #include "scenes/scenes.h"
 #include "scenes/stiff_scenes.h"
@@ -181,6 +182,48 @@ TEST(ErrorEstimate, RefinementContinuesAcrossCalls) {
   const FrameStats other = render(s, cam, rs, w / 2, h / 2, step);
   EXPECT_EQ(other.refinementRounds, 1);
   EXPECT_EQ(state.width, w / 2);
+}
+
+// Progressive display with a time budget (issue 28): a call that continues a frame has traced nothing yet, so
+// the round's size cannot come from that call's tracing rate (it was 0: an empty round, which ended the refinement
+// after the first call). With a budget far from spent, the calls reach round by round the frame one call without
+// a budget gives, bit for bit; with a budget alone every call adds a round and samples.
+TEST(ErrorEstimate, TimeBudgetRefinementContinuesAcrossCalls) {
+  const ClassicFirstPass c;
+  RenderSettings rs;
+  rs.targetError = 0.5 * c.first.total.rms;
+  FrameBuffer whole;
+  const FrameStats once = render(c.s, c.cam, rs, c.w, c.h, whole);
+  ASSERT_TRUE(once.targetMet);
+  ASSERT_GT(once.refinementRounds, 1);
+  for (const double target : {rs.targetError, 0.0}) {
+    RefinementState state;
+    RenderSettings step = rs;
+    step.targetError = target;
+    step.timeBudget = 3600.0;
+    step.refinement = &state;
+    step.maxRefinementRounds = 1;
+    FrameBuffer fb;
+    FrameStats fs;
+    uint64_t samples = 0;
+    int calls = 0;
+    do {
+      fs = render(c.s, c.cam, step, c.w, c.h, fb);
+      ++calls;
+      EXPECT_EQ(fs.refinementRounds, calls) << target;
+      EXPECT_GT(fs.samples, samples) << target << " call " << calls;
+      samples = fs.samples;
+    } while (!fs.refinementFinished && calls < (target > 0.0 ? 100 : 6));
+    if (target > 0.0) {
+      EXPECT_TRUE(fs.targetMet);
+      EXPECT_EQ(calls, once.refinementRounds);
+      EXPECT_EQ(fs.samples, once.samples);
+      EXPECT_TRUE(fb.color == whole.color);
+    } else {
+      EXPECT_FALSE(fs.refinementFinished);  // 6 rounds cannot spend an hour nor refine every pixel fully
+      EXPECT_EQ(calls, 6);
+    }
+  }
 }
 
 // Progressive display with rounds cut short: a time slice shorter than a tile (each call refines one tile per

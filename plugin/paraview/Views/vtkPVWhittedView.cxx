@@ -325,6 +325,7 @@ void vtkPVWhittedView::Render(bool interactive, bool skip_rendering)
       this->LastTargetErrorMet = stats->GetTargetErrorMet();
       this->LastNumberOfSamples = static_cast<double>(stats->GetNumberOfSamples());
       this->LastRefinementRounds = stats->GetRefinementRounds();
+      this->LastRefinementSeconds = stats->GetRefinementSeconds();
     }
     this->AfterTracedFrame(interactive, reduction);
   }

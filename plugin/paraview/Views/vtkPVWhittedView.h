@@ -179,7 +179,9 @@ public:
    * The error estimate of the last still frame traced on this process (information-only
    * properties): { RMS, 95th percentile, max } of the per-pixel estimated error, truncation bound
    * and sampling estimate (see vtkWhittedFrameStatistics), whether it met TargetError, its camera
-   * samples and refinement rounds. Interactive frames leave them as they are.
+   * samples, refinement rounds and refinement seconds (what TimeBudget counts: the tracing seconds of
+   * all the renders of a progressively displayed frame so far). Interactive frames leave them as they
+   * are.
    */
   vtkGetVector3Macro(LastEstimatedError, double);
   vtkGetVector3Macro(LastTruncationError, double);
@@ -187,6 +189,7 @@ public:
   vtkGetMacro(LastTargetErrorMet, bool);
   vtkGetMacro(LastNumberOfSamples, double);
   vtkGetMacro(LastRefinementRounds, int);
+  vtkGetMacro(LastRefinementSeconds, double);
   ///@}
 
   /**
@@ -243,6 +246,7 @@ protected:
   bool LastTargetErrorMet = false;
   double LastNumberOfSamples = 0.0;
   int LastRefinementRounds = 0;
+  double LastRefinementSeconds = 0.0;
   int TracedFrameCount = 0;
   double LastRenderTime = 0;
   int LastImageReduction = 1;

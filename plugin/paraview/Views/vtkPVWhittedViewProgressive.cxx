@@ -160,8 +160,15 @@ void vtkPVWhittedView::UpdateErrorAnnotation(bool interactive, int reduction)
     {
       std::snprintf(status, sizeof status, "no target");
     }
-    std::snprintf(text, sizeof text, "Whitted: %.0f ms, %.2f spp, error %.4f (RMS estimate)\n%s%s",
-      stats->GetRefinementSeconds() * 1e3, spp, stats->GetRMSError()[0], status,
+    // With a budget: how much of it the frame has taken so far (over all its progressive renders)
+    char budget[64] = "";
+    if (this->WhittedPass->GetTimeBudget() > 0.0)
+    {
+      std::snprintf(budget, sizeof budget, ", %.1f of %g s", stats->GetRefinementSeconds(),
+        this->WhittedPass->GetTimeBudget());
+    }
+    std::snprintf(text, sizeof text, "Whitted: %.0f ms, %.2f spp, error %.4f (RMS estimate)\n%s%s%s",
+      stats->GetRefinementSeconds() * 1e3, spp, stats->GetRMSError()[0], status, budget,
       stats->GetRefinementFinished() ? "" : ", refining");
   }
   this->ErrorAnnotationText = text;
