@@ -44,9 +44,9 @@ plain = shot("plain")
 view.ShowErrorAnnotation = 1
 annotated = shot("annotation")
 text = info("ErrorAnnotationText")
-est = info("LastEstimatedError")
+est = info("LastRMSError")
 check("1.00 spp" in text and ("error %.4f" % est[0]) in text and "no target" in text,
-      "annotation text %r states 1 spp and the estimated error %.4f" % (text, est[0]))
+      "annotation text %r states 1 spp and the calibrated RMS estimate %.4f" % (text, est[0]))
 rows, cols = np.nonzero(np.any(plain != annotated, axis=2))
 # read_png's rows are VTK's (bottom row first): the lower left corner is at small row and column indices
 check(len(rows) > 200 and rows.max() < 60 and cols.min() >= 4 and cols.max() < size[0] - 4,

@@ -5,7 +5,8 @@
 The shared scene at 200x150 with Refinement Rounds Per Render 1; each case renders again while
 RefinementUnfinished is 1 (at most a fixed number of renders):
   A. Target Error (0.3 x the first pass's estimate) and a Time Budget of 3600 s: each Render() runs one more round
-     (LastRefinementRounds 1, 2, 3, ...) and adds samples, RefinementUnfinished stays 1 until the render that meets
+     (LastRefinementRounds 1, 2, 3, ...) and adds samples (or traces the same ones at a looser depth where the
+     truncation bound dominates), RefinementUnfinished stays 1 until the render that meets
      the target, then 0; the renders reach the same rounds and samples as without a budget (a budget that is not
      spent changes nothing), and a render after the end adds nothing.
   B. Time Budget 3600 s alone (no target): 8 renders, each one more round with more samples, all unfinished.
@@ -68,13 +69,19 @@ def describe(frames):
     return " ".join("%d:%d%s" % (f["rounds"], f["samples"], "+" if f["unfinished"] else ".") for f in frames)
 
 
-def keeps_refining(frames, name):
-    """Each render one round more than the one before, with more samples, and unfinished but the last"""
+def keeps_refining(frames, name, loosens=False):
+    """Each render one round more than the one before, with more samples (loosens: or, with a target, the same
+    samples traced again at a looser depth and threshold where the truncation bound dominates), and unfinished
+    but the last"""
     rounds = [f["rounds"] for f in frames]
     samples = [f["samples"] for f in frames]
     check(rounds == list(range(1, len(frames) + 1)), "%s: one more round per render (rounds:samples) %s"
           % (name, describe(frames)))
-    check(all(b > a for a, b in zip(samples, samples[1:])), "%s: every render adds samples" % name)
+    if loosens:
+        check(all(b >= a for a, b in zip(samples, samples[1:])) and samples[-1] > samples[0],
+              "%s: renders add samples (or loosen: no sample lost)" % name)
+    else:
+        check(all(b > a for a, b in zip(samples, samples[1:])), "%s: every render adds samples" % name)
     check(all(f["unfinished"] for f in frames[:-1]), "%s: RefinementUnfinished 1 until the last" % name)
 
 
@@ -97,7 +104,7 @@ reference = progressive(target, 0.0, 60)
 check(not reference[-1]["unfinished"] and reference[-1]["met"] and len(reference) > 2,
       "no budget: target %.4f met after %d renders" % (target, len(reference)))
 frames = progressive(target, 3600.0, 60)
-keeps_refining(frames, "A target + budget")
+keeps_refining(frames, "A target + budget", loosens=True)
 check(not frames[-1]["unfinished"] and frames[-1]["met"], "A: the last render met the target and says so")
 check([(f["rounds"], f["samples"]) for f in frames] == [(f["rounds"], f["samples"]) for f in reference],
       "A: the same rounds and samples as without a budget (%s)" % describe(reference))

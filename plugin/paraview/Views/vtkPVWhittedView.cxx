@@ -320,6 +320,7 @@ void vtkPVWhittedView::Render(bool interactive, bool skip_rendering)
     if (!interactive)
     {
       stats->GetEstimatedError(this->LastEstimatedError);
+      stats->GetRMSError(this->LastRMSError);
       stats->GetTruncationError(this->LastTruncationError);
       stats->GetSamplingError(this->LastSamplingError);
       this->LastTargetErrorMet = stats->GetTargetErrorMet();

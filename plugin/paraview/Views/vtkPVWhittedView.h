@@ -181,9 +181,11 @@ public:
    * and sampling estimate (see vtkWhittedFrameStatistics), whether it met TargetError, its camera
    * samples, refinement rounds and refinement seconds (what TimeBudget counts: the tracing seconds of
    * all the renders of a progressively displayed frame so far). Interactive frames leave them as they
-   * are.
+   * are. LastRMSError: the calibrated estimate { RMS, 95th percentile, max } (what TargetError is
+   * met by and the annotation shows; vtkWhittedFrameStatistics::GetRMSError).
    */
   vtkGetVector3Macro(LastEstimatedError, double);
+  vtkGetVector3Macro(LastRMSError, double);
   vtkGetVector3Macro(LastTruncationError, double);
   vtkGetVector3Macro(LastSamplingError, double);
   vtkGetMacro(LastTargetErrorMet, bool);
@@ -241,6 +243,7 @@ protected:
   double LastFixedTime = 0;
   bool LastFrameInteractive = false;
   double LastEstimatedError[3] = { 0.0, 0.0, 0.0 };
+  double LastRMSError[3] = { 0.0, 0.0, 0.0 };
   double LastTruncationError[3] = { 0.0, 0.0, 0.0 };
   double LastSamplingError[3] = { 0.0, 0.0, 0.0 };
   bool LastTargetErrorMet = false;
