@@ -184,8 +184,12 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
     const float least = float(kLeastEstimateShare * s_.targetError);
     std::vector<Choice> choices(acc_.size());
     std::vector<double> bucketRays(kBuckets, 0.0);
+    // A pixel kept (gain 0) has no bucket of its own: the lowest. Clamped in float, before the conversion to
+    // int, which is undefined for log2(0) = -inf (UBSan's finding in CI)
     auto bucketOf = [](float g) {
-      return std::clamp(int(std::floor(kBucketsPerOctave * std::log2(g))) + kBuckets / 2, 0, kBuckets - 1);
+      if (!(g > 0.0f)) return 0;
+      const float b = std::floor(kBucketsPerOctave * std::log2(g)) + float(kBuckets / 2);
+      return int(std::clamp(b, 0.0f, float(kBuckets - 1)));
     };
     for (std::size_t i = 0; i < acc_.size(); ++i) {
       if (!fb_.traced[i] || !(canSample(i) || canLoosen(i))) continue;
