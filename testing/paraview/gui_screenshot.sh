@@ -3,6 +3,8 @@
 # steps plus selecting the sphere. Not part of ctest (it looks at the whole screen).
 #   PV_PLUGIN_DIR=<build>/lib/x86_64-linux-gnu/paraview-5.11/plugins/WhittedView ./gui_screenshot.sh [out.png]
 # Needs xvfb-run, xwd (x11-apps) and ImageMagick's convert.
+# WAIT (default 90 s): the playback and the last still frame must be done (45 s caught an interactive frame
+# half traced on a loaded 2-core machine).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 out="${1:-$here/gui_screenshot.png}"
@@ -18,7 +20,7 @@ sed "s#</pqevents>#  <pqevent object=\"$browser\" command=\"mousePress\" argumen
 xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" bash -c '
   paraview -geometry 1280x1024+0+0 --dr --plugin-search-paths="$1" --plugins=WhittedView --test-script="$2" &
   pid=$!
-  sleep "${WAIT:-60}"
+  sleep "${WAIT:-90}"
   xwd -root -silent | convert xwd:- -crop "${CROP:-1280x1024+0+0}" +repage "$3"
   kill "$pid"; wait "$pid" 2>/dev/null || true' _ "$plugin_dir" "$script" "$out"
 rm -f "$script"

@@ -10,7 +10,8 @@ measured in a render without the sphere: not the white, over-exposed ball (1 x i
 + 0.9 W)) that the old rule gave. Then the Material Preset list: Gold puts its coloured reflectance on the actor's property and
 no other key, Glass its transmittance and index, None gives the fields back (Transmittance 0.9 again), a material
 of an OSPRay material library file (Material Library, Library Material) its keys, and a Mirror sphere's centre
-reflects the wall behind the camera exactly.
+reflects the wall behind the camera exactly. The materials of a library file are listed (LibraryMaterialNames, in
+name order) once the file is set, and none without one.
 """
 import argparse
 import json
@@ -56,6 +57,13 @@ def material_keys(display):
                     "ATTENUATION_DISTANCE"):
             keys[name] = [round(float(v), 6) for v in values.split()]
     return keys
+
+
+def library_choices(display):
+    """The names a script reads from the representation: LibraryMaterialNames (information property)"""
+    display.UpdatePropertyInformation()
+    prop = display.GetProperty("LibraryMaterialNames").SMProperty
+    return [prop.GetElement(i) for i in range(prop.GetNumberOfElements())]
 
 
 wt.load_plugin(args.plugin)
@@ -113,14 +121,29 @@ check(keys.get("TRANSMITTANCE") == [0.9], "None gives the fields back: %s" % key
 library = os.path.join(args.tmp, "materials.json")
 with open(library, "w") as f:
     json.dump({"family": "OSPRay", "version": "0.0", "materials": {
-        "bronze": {"type": "alloy", "doubles": {"color": [0.9, 0.5, 0.2], "roughness": [0.2]}}}}, f)
+        "bronze": {"type": "alloy", "doubles": {"color": [0.9, 0.5, 0.2], "roughness": [0.2]}},
+        "window": {"type": "glass", "doubles": {"eta": [1.52]}}}}, f)
+choices = library_choices(sphere)
+check(choices == [], "before a library, no Library Material Names: %s" % choices)
 sphere.MaterialLibrary = library
+choices = library_choices(sphere)
+check(choices == ["bronze", "window"], "the library's materials are its Library Material Names: %s" % choices)
+Render(view)
+check(material_keys(sphere).get("TRANSMITTANCE") == [0.9], "library loaded, no material chosen: the fields apply")
 sphere.LibraryMaterial = "bronze"
 Render(view)
 check(material_keys(sphere) == {"REFLECTANCE": [0.9, 0.5, 0.2]}, "library alloy keys %s" % material_keys(sphere))
+sphere.LibraryMaterial = "None"
+Render(view)
+check(material_keys(sphere).get("TRANSMITTANCE") == [0.9], "None: no library material, the fields again")
+sphere.LibraryMaterial = "bronze"
+Render(view)
 sphere.LibraryMaterial = ""
 Render(view)
-check(material_keys(sphere).get("TRANSMITTANCE") == [0.9], "no library material: the fields again")
+check(material_keys(sphere).get("TRANSMITTANCE") == [0.9], "an empty name: the fields again")
+sphere.MaterialLibrary = ""
+choices = library_choices(sphere)
+check(choices == [], "library removed: no names: %s" % choices)
 
 sphere.MaterialPreset = "Mirror"
 view.UseLight = 0  # the preset's highlight of the light kit's headlight would sit exactly on the centre

@@ -9,6 +9,7 @@
 #include "vtkPVLODActor.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkProperty.h"
+#include "vtkStringArray.h"
 #include "vtkWhittedMaterialKeys.h"
 #include "vtkWhittedMaterialLibrary.h"
 
@@ -20,6 +21,7 @@ vtkStandardNewMacro(vtkWhittedGeometryRepresentation);
 //------------------------------------------------------------------------------
 vtkWhittedGeometryRepresentation::vtkWhittedGeometryRepresentation()
   : Library(vtkSmartPointer<vtkWhittedMaterialLibrary>::New())
+  , LibraryMaterialNames(vtkSmartPointer<vtkStringArray>::New())
 {
 }
 
@@ -76,6 +78,7 @@ void vtkWhittedGeometryRepresentation::UpdateMaterialKeys()
 
   // A material of the library
   if (this->MaterialPreset == 0 && this->LibraryMaterial && *this->LibraryMaterial &&
+    std::strcmp(this->LibraryMaterial, "None") != 0 && // the GUI's "no library material"
     *this->Library->GetMaterialType(this->LibraryMaterial) &&
     this->Library->ApplyMaterial(this->LibraryMaterial, this->Property))
   {
@@ -180,7 +183,17 @@ void vtkWhittedGeometryRepresentation::SetMaterialLibrary(const char* filename)
     std::strcpy(this->MaterialLibrary, filename);
     this->Library->ReadFile(filename);
   }
+  this->LibraryMaterialNames->Initialize();
+  for (int i = 0; i < this->Library->GetNumberOfMaterials(); ++i)
+  {
+    this->LibraryMaterialNames->InsertNextValue(this->Library->GetMaterialName(i));
+  }
   this->UpdateMaterialKeys();
+}
+
+vtkStringArray* vtkWhittedGeometryRepresentation::GetLibraryMaterialNames()
+{
+  return this->LibraryMaterialNames;
 }
 
 void vtkWhittedGeometryRepresentation::SetLibraryMaterial(const char* name)

@@ -23,7 +23,8 @@
  *   Ray Tracing Materials" reads; read where the representation runs, i.e. on the server) and the
  *   name of one of its materials. With MaterialPreset None and a material of that name, the
  *   material is applied (vtkWhittedMaterialLibrary::ApplyMaterial) instead of the fields above.
- *   Default none.
+ *   Default none ("" or "None"). GetLibraryMaterialNames lists the materials read (information
+ *   property LibraryMaterialNames).
  *
  * Per-point radii: ParaView's OSPRay scaling properties of the representation (Scaling Mode
  * "OSPRayUseScaleArray", Scale Array, Scale Function; hidden in the GUI of a ParaView without ray
@@ -51,6 +52,7 @@
 #include <string> // for std::string
 
 class vtkPiecewiseFunction;
+class vtkStringArray;
 class vtkWhittedMaterialLibrary;
 
 class WHITTEDPARAVIEW_EXPORT vtkWhittedGeometryRepresentation
@@ -83,6 +85,7 @@ public:
   vtkGetStringMacro(MaterialLibrary);
   void SetLibraryMaterial(const char* name);
   vtkGetStringMacro(LibraryMaterial);
+  vtkStringArray* GetLibraryMaterialNames(); ///< the materials of MaterialLibrary, in name order
   ///@}
 
   ///@{
@@ -138,6 +141,7 @@ private:
   void AssignColor(double* field, double r, double g, double b);
 
   vtkSmartPointer<vtkWhittedMaterialLibrary> Library; ///< MaterialLibrary as read (empty if none).
+  vtkSmartPointer<vtkStringArray> LibraryMaterialNames; ///< its names (GetLibraryMaterialNames).
 
   vtkWhittedGeometryRepresentation(const vtkWhittedGeometryRepresentation&) = delete;
   void operator=(const vtkWhittedGeometryRepresentation&) = delete;
