@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -28,14 +29,23 @@ namespace whitted {
 struct BoxRay {
   __m128 orgNear[3], orgFar[3], invNear[3], invFar[3];
   int nearBound[3], farBound[3];  ///< Index into BvhWideNode::b of the near / far plane per axis.
-  double tScale = 1.0;            ///< Box-test distances are t * tScale.
-  BoxRay() = default;             ///< Unset (the lanes of a packet's inactive rays).
+  /// The same as byte offsets into a BvhWideNode (the single-ray loop adds them to the node's address).
+  std::size_t nearOffset[3], farOffset[3];
+  double tScale = 1.0;  ///< Box-test distances are t * tScale.
+  /// False when every origin coordinate is a float (not +-inf): then an empty child slot (box lo = +inf, hi = -inf)
+  /// never passes the slab test (its near distance is +inf, its far one -inf), and its mask needs no used().
+  bool emptyMayPass = true;
+  BoxRay() = default;  ///< Unset (the lanes of a packet's inactive rays).
   /// Slab test of wide node n's four boxes against [t0, t1] (box-test units): t0 becomes each box's entry distance
-  /// (at most the exact one); returns the mask of the boxes entered (AND it with n.used(): empty slots may pass).
+  /// (at most the exact one); returns the mask of the boxes entered (AND it with n.used() when emptyMayPass: empty
+  /// slots may pass then).
   unsigned enter(const BvhWideNode& n, __m128& t0, __m128 t1) const {
+    const char* node = reinterpret_cast<const char*>(&n);
     for (int a = 0; a < 3; ++a) {
-      const __m128 lo = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[nearBound[a]]), orgNear[a]), invNear[a]);
-      const __m128 hi = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.b[farBound[a]]), orgFar[a]), invFar[a]);
+      const __m128 lo = _mm_mul_ps(
+          _mm_sub_ps(_mm_load_ps(reinterpret_cast<const float*>(node + nearOffset[a])), orgNear[a]), invNear[a]);
+      const __m128 hi = _mm_mul_ps(
+          _mm_sub_ps(_mm_load_ps(reinterpret_cast<const float*>(node + farOffset[a])), orgFar[a]), invFar[a]);
       // The far product's NaN (0 * inf: an origin on the far plane of a parallel ray; inf - inf: an infinite
       // plane and an origin beyond float range) is ignored: min(hi, t1) returns t1 for a NaN hi. A near
       // product is never NaN for a real box (its lo is never +inf nor its hi -inf, and the rounded origin
@@ -102,7 +112,13 @@ struct BoxRay {
       invFar[k] = _mm_set1_ps(lanes[3][k]);
       nearBound[k] = (negative >> k) & 1 ? 3 + k : k;
       farBound[k] = (negative >> k) & 1 ? k : 3 + k;
+      nearOffset[k] = offsetof(BvhWideNode, b) + std::size_t(nearBound[k]) * sizeof(BvhWideNode::b[0]);
+      farOffset[k] = offsetof(BvhWideNode, b) + std::size_t(farBound[k]) * sizeof(BvhWideNode::b[0]);
     }
+    // Rounded origins beyond float range are +-inf (up, down): the empty-slot masks are needed then
+    const __m128 infinite = _mm_cmpeq_ps(_mm_max_ps(_mm_andnot_ps(signBit, up), _mm_andnot_ps(signBit, down)),
+                                         _mm_set1_ps(std::numeric_limits<float>::infinity()));
+    emptyMayPass = (_mm_movemask_ps(infinite) & 7) != 0;
   }
 };
 

@@ -38,7 +38,7 @@ struct BvhBuildOptions {
 };
 
 /// Where a tree's leaf primitives live, when they are stored in leaf order (slot k at base + k * stride): lets the
-/// traversal prefetch a leaf's primitives when it decides to visit it. Default: none.
+/// traversal prefetch a leaf's primitives when it puts the leaf on its stack. Default: none.
 struct LeafData {
   const void* base = nullptr;
   uint32_t stride = 0;
@@ -166,7 +166,8 @@ class Bvh {
     depth_ = 0;
   }
   /// Starts loading a child's node (both cache lines) or leaf primitives (first and last) while its siblings are
-  /// visited: traversal of a large tree waits mostly on memory.
+  /// visited: traversal of a large tree waits mostly on memory (the packet walks; traverse() has a branch-free
+  /// copy).
   void prefetchChild(uint32_t first, uint32_t count, const LeafData& leafData) const {
     if (count == 0) {
       const char* p = reinterpret_cast<const char*>(&wide_[first]);

@@ -24,8 +24,8 @@ struct alignas(64) BvhWideNode {  // two whole cache lines
   uint32_t first[4];
   uint32_t count[4];
   /// Mask of the slots that hold a child. Empty slots are the children whose lo.x is +inf (a real box's lo is
-  /// rounded down, so never +inf even beyond float range); slab tests mask them out, since NaN exits (inf - inf)
-  /// could otherwise let them through.
+  /// rounded down, so never +inf even beyond float range); slab tests mask them out when NaN exits (inf - inf, an
+  /// origin beyond float range: BoxRay::emptyMayPass) could otherwise let them through.
   unsigned used() const {
     const __m128 inf = _mm_set1_ps(std::numeric_limits<float>::infinity());
     return unsigned(_mm_movemask_ps(_mm_cmplt_ps(_mm_load_ps(b[0]), inf)));

@@ -73,7 +73,7 @@ constexpr double kTieRelative = 1e-10;
 /// object-space ray, whose limit is tm; keeps the best hit by the tie rule and returns true if hit changed.
 /// Performance note: the limit is widened by the tie tolerance so tying candidates are not culled.
 template <typename Shape>
-bool closestLeaf(const typename Shape::Tester& test, const uint32_t* leafPrims, uint32_t instance, const Ray& ray,
+[[gnu::always_inline]] inline bool closestLeaf(const typename Shape::Tester& test, const uint32_t* leafPrims, uint32_t instance, const Ray& ray,
                  double tLimit, uint32_t first, uint32_t count, double& tm, Hit& hit) {
   bool found = false;
   PrimHit h;
