@@ -12,6 +12,7 @@
 
 #include "scene/material.h" // for whitted::metallicReflectance
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <fstream>
@@ -189,6 +190,32 @@ bool vtkWhittedMaterialLibrary::GetPresetHighlight(
       {
         specularColor[i] = p.Light.Color[i];
       }
+      return true;
+    }
+  }
+  return false;
+}
+
+bool vtkWhittedMaterialLibrary::GetPresetFields(const char* name, double& reflectance,
+  double reflectanceColor[3], double& transmittance, double& indexOfRefraction,
+  double attenuationColor[3], double& attenuationDistance)
+{
+  for (const Preset& p : Presets)
+  {
+    if (name && std::string(p.Name) == name)
+    {
+      const WhittedKeys& k = p.Keys;
+      const RGB kr = k.HasReflectance ? k.Reflectance : RGB{ 0, 0, 0 };
+      reflectance = std::max({ kr[0], kr[1], kr[2] });
+      transmittance =
+        k.HasTransmittance ? std::max({ k.Transmittance[0], k.Transmittance[1], k.Transmittance[2] }) : 0.0;
+      for (int i = 0; i < 3; ++i)
+      {
+        reflectanceColor[i] = reflectance > 0.0 ? kr[i] / reflectance : 1.0;
+        attenuationColor[i] = k.AttenuationColor[i];
+      }
+      indexOfRefraction = k.IndexOfRefraction;
+      attenuationDistance = k.AttenuationDistance;
       return true;
     }
   }

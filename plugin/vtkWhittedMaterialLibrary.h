@@ -85,6 +85,17 @@ public:
   static bool GetPresetHighlight(
     const char* name, double& specular, double& specularPower, double specularColor[3]);
 
+  /**
+   * A preset as the fields of ParaView's "Whitted Surface" representation, which its panel shows
+   * when the preset is chosen: Reflectance (the largest component of the preset's reflectance)
+   * times ReflectanceColor (the reflectance over that, white for none), Transmittance (the largest
+   * component), IndexOfRefraction, AttenuationColor, AttenuationDistance. "None" gives the fields'
+   * defaults (0, white, 0, 1, white, 1). Returns false for unknown names.
+   */
+  static bool GetPresetFields(const char* name, double& reflectance, double reflectanceColor[3],
+    double& transmittance, double& indexOfRefraction, double attenuationColor[3],
+    double& attenuationDistance);
+
   ///@{
   /**
    * Reads an OSPRay material library from a JSON file or string; the materials are added to

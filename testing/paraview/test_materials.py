@@ -48,15 +48,7 @@ def centre_pixels(view, name):
     return pixels[h // 2 - 12:h // 2 + 12, w // 2 - 12:w // 2 + 12].reshape(-1, 3)
 
 
-def material_keys(display):
-    rep = display.GetClientSideObject().GetActiveRepresentation()
-    keys = {}
-    for line in str(rep.GetActor().GetProperty().GetInformation()).splitlines():
-        name, _, values = line.strip().partition(":")
-        if name in ("REFLECTANCE", "TRANSMITTANCE", "INDEX_OF_REFRACTION", "ATTENUATION_COLOR",
-                    "ATTENUATION_DISTANCE"):
-            keys[name] = [round(float(v), 6) for v in values.split()]
-    return keys
+material_keys = wt.material_keys
 
 
 def library_choices(display):

@@ -14,8 +14,8 @@ when the sphere is hidden; "upper"/"lower" = its upper and lower thirds; "bg" = 
   Gold, Copper: a warm tint: red/blue of the sphere's upper third (reflecting the bluish background) above 1.5
   Mirror, Chrome: the floor mirrored: the lower third (reflecting the floor) brighter than the upper third
       (reflecting the background), by at least 20
-The Representation panel: the preset's Whitted fields are shown greyed out (see xml/WhittedView.xml); the fields keep
-the user's values, which come back with None (tested in test_materials.py).
+The Representation panel: choosing a preset writes its values into the Whitted fields, and None gives back the
+user's own values (vtkSMWhittedSurfaceRepresentationProxy; tested in test_preset_panel.py).
 """
 import os
 import sys

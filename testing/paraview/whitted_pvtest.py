@@ -260,6 +260,19 @@ def time_series(source, mode, steps, amplitude=1.5, value=157.0):
                               Script=script, RequestInformationScript=_TIME_STEPS_SCRIPT % steps)
 
 
+def material_keys(display):
+    """The Whitted information keys the representation put on its actor's vtkProperty (what the pass renders), as
+    {name: [values rounded to 1e-6]}."""
+    rep = display.GetClientSideObject().GetActiveRepresentation()
+    keys = {}
+    for line in str(rep.GetActor().GetProperty().GetInformation()).splitlines():
+        name, _, values = line.strip().partition(":")
+        if name in ("REFLECTANCE", "TRANSMITTANCE", "INDEX_OF_REFRACTION", "ATTENUATION_COLOR",
+                    "ATTENUATION_DISTANCE"):
+            keys[name] = [round(float(v), 6) for v in values.split()]
+    return keys
+
+
 def info(view, name):
     """An information-only property of the view, fetched again (in client/server mode: the client's view object)"""
     view.UpdatePropertyInformation()
