@@ -339,6 +339,8 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
         double t = kInfinity;
         Color bound = cutRayBound<Reflect, Refract>(r, depth + 1, s_.truncationLookahead, extraLevels_, w, rayStraight,
                                                     pathHere, st, ps, &t, kCutRay);
+        // Bound rays find the first hit only; volumes on the way emit at most 1 - T and let T of the rest through
+        if constexpr (Volumes) bound = glm::max(bound, Color(1.0f));
         if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) absorb(bound, m, t);
         ps.truncation += maxComponent(w * bound);
         return;
