@@ -1,9 +1,10 @@
 // Volumes against analytic values: a constant-density slab's transmittance exp(-sigma x thickness) seen by camera,
-// shadow and mirror-reflected rays, a surface inside a volume attenuated by the part in front of it, trilinear
-// interpolation of a linear field, early ray termination as a truncation, and bad input (NaN scalars, zero spacing,
-// a single-point axis) skipped with a message and never a NaN pixel.
+// shadow, mirror-reflected and refracted rays, a surface inside a volume attenuated by the part in front of it,
+// trilinear interpolation of a linear field, early ray termination as a truncation, and bad input (NaN scalars, zero
+// spacing, a single-point axis) skipped with a message and never a NaN pixel.
 #include "shading/integrator.h"
 #include "scenes/scenes.h"
+#include "scenes/stiff_scenes.h"
 #include "shading/integrator_test_util.h"
 
 #include <gtest/gtest.h>
@@ -187,6 +188,23 @@ TEST(Volume, MirrorShowsTheSameTransmittance) {
   const double expected = std::exp(-kSigma * thickness * std::sqrt(2.0));
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(smp.color[k], expected, 1e-3);
   EXPECT_EQ(st.reflection, 1u);
+  expectClean(st);
+}
+
+TEST(Volume, RefractedRaySeesTheSameTransmittance) {
+  // A glass slab (IOR 1.5) in front of the volume: a ray leaves it parallel to itself (shifted), so it crosses the
+  // volume slab over the same length as without the glass
+  const double thickness = 1.2, angle = 0.5;
+  Scene s;
+  addObject(s, makeBoxMesh(Vec3(-50, -50, -2), Vec3(50, 50, -1)), glassMaterial(1.5f));
+  s.addVolume(slab(Vec3(-50, -50, 1), Vec3(50, 50, 1 + thickness)));
+  s.background = Color(1.0f);
+  s.commit();
+  RayStats st;
+  const Sample smp = traceOne(s, ray(Vec3(0, 0, -5), Vec3(std::sin(angle), 0, std::cos(angle))), st);
+  const double expected = std::exp(-kSigma * thickness / std::cos(angle));
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(smp.color[k], expected, 1e-3);
+  EXPECT_GE(st.refraction, 2u);
   expectClean(st);
 }
 
