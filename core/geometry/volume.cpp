@@ -117,8 +117,45 @@ std::string Volume::prepare(std::size_t& invalidScalars) {
   step_ = std::isfinite(sampleDistance) && sampleDistance > 0.0 ? sampleDistance : 0.5 * shortest;
   step_ = std::max(step_, diagonal / kMaxSteps);
   if (!(std::isfinite(step_) && step_ > 0.0)) return "volume: no usable step (grid extent not finite)";
+  buildTable();
   ready_ = true;
   return std::string();
+}
+
+void Volume::buildTable() {
+  // Over the range of both functions' nodes; outside it both are constant (clamped)
+  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+  for (const std::vector<float>* xs : {&transfer.colorX, &transfer.opacityX})
+    for (float x : *xs) {
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+    }
+  if (!(lo <= hi)) lo = hi = 0.0f;  // no nodes
+  const int n = hi > lo ? kTableSize : 1;
+  tableMin_ = lo;
+  tableScale_ = hi > lo ? float(double(n - 1) / (double(hi) - double(lo))) : 0.0f;
+  if (!std::isfinite(tableScale_)) tableScale_ = 0.0f;
+  table_.resize(std::size_t(n));
+  const double ratio = step_ / transfer.unitDistance;
+  for (int i = 0; i < n; ++i) {
+    const float s = n > 1 ? float(double(lo) + (double(hi) - double(lo)) * i / (n - 1)) : lo;
+    Entry& e = table_[std::size_t(i)];
+    e.color = transfer.color(s);
+    e.opacity = transfer.opacity(s);
+    e.alphaStep = float(-std::expm1(std::log1p(-double(e.opacity)) * ratio));
+  }
+}
+
+Volume::Entry Volume::lookup(float s) const {
+  float x = (s - tableMin_) * tableScale_;
+  const float last = float(table_.size() - 1);
+  x = x > 0.0f ? (x < last ? x : last) : 0.0f;  // NaN (an overflowed s - tableMin_ times 0) gives 0
+  const std::size_t i = std::size_t(x);
+  const std::size_t j = std::min(i + 1, table_.size() - 1);
+  const float f = x - float(i);
+  const Entry &a = table_[i], &b = table_[j];
+  return Entry{a.color + f * (b.color - a.color), a.opacity + f * (b.opacity - a.opacity),
+               a.alphaStep + f * (b.alphaStep - a.alphaStep)};
 }
 
 bool Volume::clip(const Ray& ray, double& t0, double& t1) const {
@@ -140,6 +177,10 @@ bool Volume::clip(const Ray& ray, double& t0, double& t1) const {
 }
 
 float Volume::sample(const Vec3& index) const {
+  return sampleIndex(index);
+}
+
+inline float Volume::sampleIndex(const Vec3& index) const {
   const int nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
   double p[3];
   for (int a = 0; a < 3; ++a) {
@@ -181,19 +222,20 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
   const double perUnit = len / transfer.unitDistance;
   for (int64_t k = 0; k < steps; ++k) {
     const double ta = t0 + double(k) * dt;
-    const double tb = k + 1 == steps ? t1 : std::min(t1, ta + dt);
+    const bool full = k + 1 < steps && ta + dt <= t1;
+    const double tb = full ? ta + dt : t1;
     if (!(tb > ta)) continue;
-    const float s = sample(o + (0.5 * (ta + tb)) * d);
+    const float s = sampleIndex(o + (0.5 * (ta + tb)) * d);
     ++acc.samples;
     if (std::isnan(s)) {
       ++acc.invalidSamples;
       continue;
     }
-    const float a = transfer.opacity(s);
-    if (a <= 0.0f) continue;
-    // 1 - (1 - a)^(h / unitDistance); a = 1 gives log1p(-1) = -inf and alpha 1
-    const float alpha = float(-std::expm1(std::log1p(-double(a)) * (tb - ta) * perUnit));
-    if (emission) acc.color += (acc.transmittance * alpha) * transfer.color(s);
+    const Entry e = lookup(s);
+    if (e.opacity <= 0.0f) continue;
+    // 1 - (1 - a)^(h / unitDistance), from the table for a full step; a = 1 gives log1p(-1) = -inf and alpha 1
+    const float alpha = full ? e.alphaStep : float(-std::expm1(std::log1p(-double(e.opacity)) * (tb - ta) * perUnit));
+    if (emission) acc.color += (acc.transmittance * alpha) * e.color;
     acc.transmittance *= 1.0f - alpha;
     if (acc.transmittance < stopBelow) {
       acc.terminated = true;

@@ -82,6 +82,10 @@ struct Volume {
   bool ready() const { return ready_; }
   const Bounds3& bounds() const { return bounds_; }  ///< World bounds (after prepare).
   double step() const { return step_; }
+  /// Entries of the transfer-function table (colour, opacity and a full step's alpha over the range of the nodes,
+  /// interpolated linearly like the 1D textures of VTK's GPU mapper): exact where the functions are linear between
+  /// table entries, e.g. constant.
+  static constexpr int kTableSize = 1024;
 
   /// Parameter interval of the ray inside the grid's box, intersected with (t0, t1); false if empty.
   bool clip(const Ray& ray, double& t0, double& t1) const;
@@ -99,6 +103,16 @@ struct Volume {
   Bounds3 bounds_;
   Mat3 toIndex_{1.0};  ///< World vector -> index-space vector.
   double step_ = 1.0;
+  struct Entry {
+    Color color;
+    float opacity;
+    float alphaStep;  ///< 1 - (1 - opacity)^(step / unitDistance)
+  };
+  std::vector<Entry> table_;
+  float tableMin_ = 0.0f, tableScale_ = 0.0f;  ///< Entry index = (scalar - tableMin_) x tableScale_.
+  void buildTable();
+  Entry lookup(float s) const;
+  float sampleIndex(const Vec3& index) const;  ///< sample() without the call
 };
 
 }  // namespace whitted
