@@ -198,7 +198,11 @@ CommitStats Scene::commit() {
     settleUpgrade();
   adoptUpgrades(st);
   buildObjects(st);
-  if (topDirty_) buildTopLevel(st);
+  prepareVolumes(st);
+  if (topDirty_) {
+    buildTopLevel(st);
+    addVolumeBounds();
+  }
   st.secondsBuild = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   sanitizeInputs(st);
   updateFeatures();
@@ -287,6 +291,7 @@ void Scene::sanitizeInputs(CommitStats& st) {
 void Scene::updateFeatures() {
   // Lights: whether any that adds light casts shadows
   features_ = Features{};
+  for (const SceneVolume& v : volumes_) features_.volumes = features_.volumes || v.traced();
   for (const Light& l : lights_) {
     float li = std::max(0.0f, l.intensity) * maxComponent(glm::max(l.color, Color(0.0f)));
     if (l.castShadows && li > 0.0f) features_.shadowLights = true;
@@ -338,6 +343,7 @@ SceneStats Scene::stats() const {
     s.textures += !t.rgba.empty();
     s.textureBytes += t.rgba.capacity();
   }
+  volumeStats(s);
   return s;
 }
 

@@ -14,6 +14,7 @@
 #include "scene/material.h"
 #include "scene/object.h"
 #include "geometry/shapes.h"
+#include "geometry/volume.h"
 
 #include <cstdint>
 #include <functional>
@@ -32,6 +33,7 @@ struct Features {
   bool transforms = false;    ///< Some visible instance has a non-identity transform.
   bool textures = false;      ///< Some visible material uses a texture with texture coordinates present.
   bool edges = false;         ///< Some visible material draws edges (Material::edgeWidth > 0).
+  bool volumes = false;       ///< Some visible volume can be traced (Scene::addVolume).
 };
 
 /// Counts of what commit() did, for statistics and for tests of caching.
@@ -63,6 +65,9 @@ struct CommitStats {
   std::size_t invalidPrimitives = 0;  ///< Primitives skipped (non-finite or degenerate) in rebuilt objects.
   std::size_t invalidMaterials = 0;   ///< Materials with values clamped by sanitizeMaterial.
   std::size_t invalidLights = 0;      ///< Lights with non-finite or negative values (clamped or switched off).
+  /// Volumes prepared in this commit that cannot be traced (skipped; Scene::volumeError says why).
+  std::size_t invalidVolumes = 0;
+  std::size_t invalidVoxels = 0;  ///< Non-finite scalars in volumes prepared in this commit (traced as transparent).
 };
 
 /// Totals over the scene, for the frame report.
@@ -74,6 +79,8 @@ struct SceneStats {
   std::size_t fastTrees = 0;
   std::size_t textures = 0;      ///< Textures holding texels (colour maps included).
   std::size_t textureBytes = 0;  ///< Memory of their texels, bytes (allocated capacity).
+  std::size_t volumes = 0;       ///< Volumes traced.
+  std::size_t volumeBytes = 0;   ///< Memory of their scalars, bytes.
 };
 
 class Scene {
@@ -215,6 +222,26 @@ class Scene {
   /// and top colours by elevation 0.5 (1 + d.up) along the camera's view-up.
   Color environment(const Vec3& d, const Vec3& up) const;
 
+  // Volumes (scene/volumes.cpp) ----------------------------------------------------------------------------
+  /// Adds a volume (grid, transfer function, interpolation, step) in world coordinates; returns its id. Prepared at
+  /// the next commit; one that cannot be traced is skipped with a reason (volumeError) and counted
+  /// (CommitStats::invalidVolumes). Volumes are kept beside the objects, not in the surfaces' top-level BVH: a ray
+  /// clips every traced volume's box (few per scene).
+  uint32_t addVolume(Volume v);
+  void setVolume(uint32_t id, Volume v);
+  /// Replaces a volume's transfer function only (a colour-map edit): the grid stays as converted.
+  void setVolumeTransfer(uint32_t id, const TransferFunction& tf);
+  void setVolumeVisible(uint32_t id, bool visible);
+  void removeVolume(uint32_t id);
+  std::size_t volumeCount() const { return volumes_.size(); }
+  const Volume& volume(uint32_t id) const { return volumes_[id].volume; }
+  /// Why volume id is not traced (empty if it is, or before the commit that prepares it).
+  const std::string& volumeError(uint32_t id) const { return volumes_[id].error; }
+  /// Emission-absorption along ray over (ray.tMin, tEnd) through every traced volume, front to back into acc (see
+  /// Volume::march; volumes are marched one after the other in the order they are entered, so overlapping volumes
+  /// are composited approximately). Stops once acc.transmittance < stopBelow.
+  void marchVolumes(const Ray& ray, double tEnd, bool emission, float stopBelow, VolumeMarch& acc) const;
+
   // Commit and queries ------------------------------------------------------------------------------------
   /// Rebuilds dirty object BVHs and, if needed, the top-level BVH; detects features. Sanitises materials, lights
   /// and background in place (non-finite values replaced, ranges clamped) so no input can produce a NaN pixel.
@@ -307,6 +334,17 @@ class Scene {
   void buildTopLevel(CommitStats& st);   ///< Tree over the visible instances' world boxes.
   void sanitizeInputs(CommitStats& st);  ///< Clamp what shading reads, so no input can produce a NaN pixel.
   void updateFeatures();                 ///< What the traced instances, their materials and the lights use.
+  void prepareVolumes(CommitStats& st);  ///< Prepares changed volumes; a change rebuilds the top level (bounds_).
+  void addVolumeBounds();                ///< After the top level: bounds_ takes in the traced volumes.
+  void volumeStats(SceneStats& s) const;
+
+  struct SceneVolume {
+    Volume volume;
+    std::string error;  ///< Why it is not traced (prepare's message).
+    bool dirty = true, alive = true;
+    bool traced() const { return alive && volume.visible && volume.ready(); }
+  };
+  std::vector<SceneVolume> volumes_;
 
   UpgradeSlot upgrade_;  // first: see UpgradeSlot
   std::vector<Object> objects_;

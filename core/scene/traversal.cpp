@@ -214,6 +214,7 @@ unsigned blockObject4(const Object& o, const typename Shape::Geometry& g, const 
 
 unsigned Scene::occludedPacket(const Ray* rays, unsigned active, unsigned& blocked, uint64_t* nodes) const {
   blocked = 0;
+  if (features_.volumes) return active;  // volumes attenuate: every answer comes from transmittance()
   unsigned fallback = 0;
   auto instancesInLeaf = [&](uint32_t first, uint32_t count, unsigned raysIn) {
     unsigned done = 0;
@@ -324,7 +325,14 @@ Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes, bool* 
   const bool blocked = topInstances_.size() == 1 ? instancesInLeaf(0, 1, tMax)
                                                  : top_.traverse<true>(ray, tMax, instancesInLeaf, nodes);
   if (cutByThreshold) *cutByThreshold = blocked && cut;
-  return blocked ? Color(0.0f) : atten;
+  if (blocked) return Color(0.0f);
+  if (features_.volumes) {
+    // Through the volumes on the ray (after the surfaces: most shadow rays end at an opaque one)
+    VolumeMarch vm;
+    marchVolumes(ray, ray.tMax, false, 0.0f, vm);
+    atten *= vm.transmittance;
+  }
+  return atten;
 }
 
 SurfacePoint Scene::surface(const Ray& ray, const Hit& hit) const {

@@ -155,7 +155,35 @@ void buildClassicScene(Scene& scene, CameraSpec& cam, int sphereSubdivisions) {
 }
 
 std::vector<std::string> builtinSceneNames() {
-  return {"classic", "classic-mesh"};
+  return {"classic", "classic-mesh", "classic-fog"};
+}
+
+void addFogVolume(Scene& scene, int n) {
+  // A smooth blob with ripples (like vtkRTAnalyticSource's wavelet) over the middle of the scene's box: seen
+  // directly, through the glass sphere, in the mirror sphere, and casting a shadow on the floor
+  scene.commit();
+  const Bounds3 b = scene.bounds();
+  const Vec3 c = b.center(), e = b.hi - b.lo;
+  const Vec3 lo = c - 0.3 * e, hi = c + 0.3 * e;
+  std::vector<float> s(std::size_t(n) * std::size_t(n) * std::size_t(n));
+  std::size_t k = 0;
+  for (int z = 0; z < n; ++z)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const Vec3 u = Vec3(x, y, z) / double(n - 1) * 2.0 - 1.0;
+        s[k++] = float(std::exp(-2.0 * glm::dot(u, u)) * (0.8 + 0.2 * std::sin(9.0 * u.x) * std::cos(7.0 * u.y)));
+      }
+  Volume v;
+  const int dims[3] = {n, n, n};
+  v.grid = VolumeGrid::fromScalars(dims, s.data());
+  v.grid.origin = lo;
+  v.grid.spacing = (hi - lo) / double(n - 1);
+  v.transfer.colorX = {0.0f, 0.5f, 1.0f};
+  v.transfer.colorY = {Color(0.1f, 0.2f, 0.9f), Color(0.9f, 0.9f, 0.9f), Color(1.0f, 0.5f, 0.1f)};
+  v.transfer.opacityX = {0.1f, 0.9f};
+  v.transfer.opacityY = {0.0f, 0.8f};
+  v.transfer.unitDistance = glm::length(hi - lo) / 30.0;
+  scene.addVolume(std::move(v));
 }
 
 bool buildBuiltinScene(const std::string& name, Scene& scene, CameraSpec& cam) {
@@ -165,6 +193,11 @@ bool buildBuiltinScene(const std::string& name, Scene& scene, CameraSpec& cam) {
   }
   if (name == "classic-mesh") {
     buildClassicScene(scene, cam, 48);
+    return true;
+  }
+  if (name == "classic-fog") {
+    buildClassicScene(scene, cam, 0);
+    addFogVolume(scene, 64);
     return true;
   }
   return false;

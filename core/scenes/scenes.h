@@ -64,7 +64,11 @@ TriangleMesh makeSphereMesh(const Vec3& center, double radius, int thetaRes, int
 TriangleMesh makeGrid(const Vec3& origin, const Vec3& u, const Vec3& v, int nu, int nv, const Color4* c0 = nullptr,
                       const Color4* c1 = nullptr);
 
-/// Names of the built-in scenes and a builder by name (false if unknown).
+/// Adds a volume of n^3 points (a smooth blob with ripples, blue to orange) over the middle of the scene's box.
+void addFogVolume(Scene& scene, int n);
+
+/// Names of the built-in scenes and a builder by name (false if unknown). classic-fog: the classic scene with
+/// addFogVolume(64).
 std::vector<std::string> builtinSceneNames();
 bool buildBuiltinScene(const std::string& name, Scene& scene, CameraSpec& cam);
 

@@ -16,6 +16,9 @@ RayStats& RayStats::operator+=(const RayStats& o) {
   savedByDepth += o.savedByDepth;
   nodesVisited += o.nodesVisited;
   boundRays += o.boundRays;
+  volumeSamples += o.volumeSamples;
+  volumeTerminated += o.volumeTerminated;
+  volumeInvalidSamples += o.volumeInvalidSamples;
   nonFiniteSamples += o.nonFiniteSamples;
   clampedAlpha += o.clampedAlpha;
   clampedDepth += o.clampedDepth;
@@ -40,12 +43,17 @@ Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings, c
   refract_ = f.transmissive && s_.maxDepth > 0;
   reflect_ = s_.reflections && s_.maxDepth > 0 && (f.reflective || (f.transmissive && s_.refractions));
   shadows_ = s_.shadows && f.shadowLights;
-  static constexpr Kernel table[8] = {
-      &Integrator::radiance<false, false, false>, &Integrator::radiance<false, false, true>,
-      &Integrator::radiance<false, true, false>,  &Integrator::radiance<false, true, true>,
-      &Integrator::radiance<true, false, false>,  &Integrator::radiance<true, false, true>,
-      &Integrator::radiance<true, true, false>,   &Integrator::radiance<true, true, true>};
-  kernel_ = table[(reflect_ ? 4 : 0) | (refract_ ? 2 : 0) | (shadows_ ? 1 : 0)];
+  volumes_ = f.volumes;
+  static constexpr Kernel table[16] = {
+      &Integrator::radiance<false, false, false, false>, &Integrator::radiance<false, false, true, false>,
+      &Integrator::radiance<false, true, false, false>,  &Integrator::radiance<false, true, true, false>,
+      &Integrator::radiance<true, false, false, false>,  &Integrator::radiance<true, false, true, false>,
+      &Integrator::radiance<true, true, false, false>,   &Integrator::radiance<true, true, true, false>,
+      &Integrator::radiance<false, false, false, true>,  &Integrator::radiance<false, false, true, true>,
+      &Integrator::radiance<false, true, false, true>,   &Integrator::radiance<false, true, true, true>,
+      &Integrator::radiance<true, false, false, true>,   &Integrator::radiance<true, false, true, true>,
+      &Integrator::radiance<true, true, false, true>,    &Integrator::radiance<true, true, true, true>};
+  kernel_ = table[(volumes_ ? 8 : 0) | (reflect_ ? 4 : 0) | (refract_ ? 2 : 0) | (shadows_ ? 1 : 0)];
   // maxDepth 0 leaves the secondary machinery out, yet the reference would trace it: each hit's kr + kt is cut
   cutAtDepthZero_ = s_.maxDepth == 0 && (f.transmissive || (s_.reflections && f.reflective));
   s_.truncationReferenceDepth = std::max(0, s_.truncationReferenceDepth);
@@ -89,7 +97,8 @@ void Integrator::traceBlock(const Ray* rays, int n, RayStats* stats, const Color
   // (and closest-hit packets for the first hits without shadow packets beside them measured 0.76-1.00x there)
   const bool shadowPackets = s_.packets && shadows_ && !scene_.features().transmissive;
   const bool primaryPackets = s_.primaryPackets && !scene_.features().transmissive;
-  if ((!shadowPackets && !primaryPackets) || n < 2) {
+  // Volumes: every camera ray marches them before its first hit is shaded (throughVolumes), one by one
+  if ((!shadowPackets && !primaryPackets) || n < 2 || volumes_) {
     for (int i = 0; i < n; ++i) out[i] = trace(rays[i], stats[i], screenBackground[i]);
     return;
   }
@@ -275,9 +284,12 @@ template void Integrator::secondaryRays<true, true>(const HitFrame&, SecondaryRa
 template void Integrator::secondaryRays<true, false>(const HitFrame&, SecondaryRays&) const;
 template void Integrator::secondaryRays<false, true>(const HitFrame&, SecondaryRays&) const;
 
-template <bool Reflect, bool Refract, bool Shadows>
+template <bool Reflect, bool Refract, bool Shadows, bool Volumes>
 Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straight, RayStats& st, PathState& ps,
                            double* tHit, Vec3* firstHit, const FirstHit* pre) const {
+  if constexpr (Volumes) {
+    if (!pre) return throughVolumes<Reflect, Refract, Shadows>(ray, depth, weight, straight, st, ps, tHit, firstHit);
+  }
   Hit hit;
   if (pre ? !pre->found : !scene_.intersect(ray, hit, &st.nodesVisited)) {
     if (straight) return straightEscape(weight, ps);
@@ -327,6 +339,8 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
         double t = kInfinity;
         Color bound = cutRayBound<Reflect, Refract>(r, depth + 1, s_.truncationLookahead, extraLevels_, w, rayStraight,
                                                     pathHere, st, ps, &t, kCutRay);
+        // Bound rays find the first hit only; volumes on the way emit at most 1 - T and let T of the rest through
+        if constexpr (Volumes) bound = glm::max(bound, Color(1.0f));
         if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) absorb(bound, m, t);
         ps.truncation += maxComponent(w * bound);
         return;
@@ -335,7 +349,8 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
       double t = kInfinity;
       const double pathBefore = ps.pathLength;
       ps.pathLength = pathHere;
-      Color c = radiance<Reflect, Refract, Shadows>(r, depth + 1, w, rayStraight, st, ps, &t, nullptr, nullptr);
+      Color c =
+          radiance<Reflect, Refract, Shadows, Volumes>(r, depth + 1, w, rayStraight, st, ps, &t, nullptr, nullptr);
       ps.pathLength = pathBefore;
       if (refractedRay && s_.beerLambert && !backFace && std::isfinite(t)) absorb(c, m, t);
       result += k * c;
@@ -346,5 +361,12 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
   }
   return result;
 }
+
+// The kernels throughVolumes (volume_march.cpp) calls with its own first hit
+#define WHITTED_VOLUME_KERNEL(R, F, S)                                                                            \
+  template Color Integrator::radiance<R, F, S, true>(const Ray&, int, Color, bool, RayStats&, PathState&, double*, \
+                                                     Vec3*, const FirstHit*) const;
+WHITTED_EACH_KERNEL(WHITTED_VOLUME_KERNEL)
+#undef WHITTED_VOLUME_KERNEL
 
 }  // namespace whitted

@@ -91,6 +91,12 @@ struct RayStats {
   uint64_t nodesVisited = 0;
   /// Rays traced to the first hit only, to bound what a cut ray would have returned (truncationLookahead).
   uint64_t boundRays = 0;
+  uint64_t volumeSamples = 0;  ///< Volume samples taken (camera, secondary and shadow rays' marches).
+  /// Rays whose volume march stopped early (early ray termination: the ray's weight times the transmittance fell
+  /// below IntegratorSettings::contributionThreshold); what lies behind is charged to the truncation bound.
+  uint64_t volumeTerminated = 0;
+  /// Safety net: volume samples that read a non-finite scalar and were taken as transparent. Zero for valid input.
+  uint64_t volumeInvalidSamples = 0;
   /// Safety net: camera samples whose colour or alpha came out non-finite and were zeroed. Zero for valid input;
   /// tests assert that, so the net cannot hide a bug.
   uint64_t nonFiniteSamples = 0;
@@ -103,7 +109,9 @@ struct RayStats {
   uint64_t nonFinitePixels = 0;
   RayStats& operator+=(const RayStats& o);
   /// Everything the per-sample and per-pixel safety nets caught (0 for valid input).
-  uint64_t safetyNetCatches() const { return nonFiniteSamples + clampedAlpha + clampedDepth + nonFinitePixels; }
+  uint64_t safetyNetCatches() const {
+    return nonFiniteSamples + clampedAlpha + clampedDepth + nonFinitePixels + volumeInvalidSamples;
+  }
   uint64_t traced() const { return primary + shadow + reflection + refraction; }
   /// Every ray that walked the scene (traced rays and bound rays): what a sample cost.
   uint64_t traversals() const { return traced() + boundRays; }
@@ -172,9 +180,14 @@ class Integrator {
   struct CollectShadows;
   struct AnsweredShadows;
   struct ExactShadows;
-  template <bool Reflect, bool Refract, bool Shadows>
+  template <bool Reflect, bool Refract, bool Shadows, bool Volumes>
   Color radiance(const Ray& ray, int depth, Color weight, bool straight, RayStats& st, PathState& ps, double* tHit,
                  Vec3* firstHit, const FirstHit* pre) const;
+  /// radiance() in a scene with volumes (shading/volume_march.cpp): the volumes' emission-absorption in front of
+  /// the first surface hit, then the hit (or escape) through radiance() at the weight the volumes let through.
+  template <bool Reflect, bool Refract, bool Shadows>
+  Color throughVolumes(const Ray& ray, int depth, const Color& weight, bool straight, RayStats& st, PathState& ps,
+                       double* tHit, Vec3* firstHit) const;
   /// The shading frame at a hit: surface data, oriented normals, view vector and material (radiance's first step).
   void frameHit(const Ray& ray, const Hit& hit, int depth, const PathState& ps, HitFrame& f) const;
   /// VTK's local shading: returns the body colour (ambient + diffuse terms) and writes the specular highlight to
@@ -234,6 +247,7 @@ class Integrator {
   IntegratorSettings s_;
   Vec3 up_;
   bool reflect_, refract_, shadows_;
+  bool volumes_ = false;  ///< The scene has volumes: the kernel marches them (Features::volumes).
   Kernel kernel_;
   /// Truncation bound: remaining_[n] bounds what a ray with n further levels of recursion returns (remaining_[0]
   /// alone, the infinite series' bound, when seriesConverges_). maxDepth 0 with a reflective or transmissive

@@ -92,3 +92,14 @@ inline void absorb(Color& c, const Material& m, double t) {
 }
 
 }  // namespace whitted
+
+/// Calls M(Reflect, Refract, Shadows) for the eight kernel variants (explicit instantiations across the files).
+#define WHITTED_EACH_KERNEL(M) \
+  M(false, false, false)       \
+  M(false, false, true)        \
+  M(false, true, false)        \
+  M(false, true, true)         \
+  M(true, false, false)        \
+  M(true, false, true)         \
+  M(true, true, false)         \
+  M(true, true, true)

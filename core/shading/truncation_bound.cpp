@@ -15,6 +15,8 @@ void Integrator::buildRemainingBounds() {
   float escape = std::max(maxComponent(scene_.background),
                           scene_.gradientBackground ? maxComponent(scene_.background2) : 0.0f);
   if (scene_.environmentMap.projection != EnvironmentMap::Projection::None) escape = std::max(escape, 1.0f);
+  // Volumes emit at most 1 - T in front of what a ray sees and let T of it through: at most max(1, that)
+  if (volumes_) escape = std::max(escape, 1.0f);
   // Light reaching a surface: at most colour x intensity per light (distance and cone factors are <= 1)
   float lightSum = 0.0f;
   for (const Light& l : scene_.lights()) lightSum += l.intensity * maxComponent(l.color);

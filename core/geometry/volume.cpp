@@ -1,0 +1,247 @@
+// The volume primitive: transfer functions, validation, grid sampling and the march of one ray segment.
+#include "geometry/volume.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace whitted {
+
+namespace {
+
+// The segment of a piecewise-linear function's nodes around s: index of the left node and the weight of the right
+template <typename X>
+void locate(const X& xs, float s, std::size_t& i, float& w) {
+  const auto it = std::upper_bound(xs.begin(), xs.end(), s);
+  if (it == xs.begin()) {
+    i = 0;
+    w = 0.0f;
+    return;
+  }
+  if (it == xs.end()) {
+    i = xs.size() - 1;
+    w = 0.0f;
+    return;
+  }
+  i = std::size_t(it - xs.begin()) - 1;
+  const float span = xs[i + 1] - xs[i];
+  w = span > 0.0f ? (s - xs[i]) / span : 1.0f;
+}
+
+// Sorts the nodes by x (stable) and keeps the finite ones, values clamped to [0, 1]
+template <typename Y>
+void sortNodes(std::vector<float>& xs, std::vector<Y>& ys) {
+  const std::size_t n = std::min(xs.size(), ys.size());
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return xs[a] < xs[b]; });
+  std::vector<float> nx;
+  std::vector<Y> ny;
+  for (std::size_t k : order) {
+    if (!std::isfinite(xs[k])) continue;
+    Y y = ys[k];
+    if constexpr (std::is_same_v<Y, float>) {
+      y = std::isfinite(y) ? std::clamp(y, 0.0f, 1.0f) : 0.0f;
+    } else {
+      for (int c = 0; c < 3; ++c) y[c] = std::isfinite(y[c]) ? std::clamp(y[c], 0.0f, 1.0f) : 0.0f;
+    }
+    nx.push_back(xs[k]);
+    ny.push_back(y);
+  }
+  xs.swap(nx);
+  ys.swap(ny);
+}
+
+}  // namespace
+
+Color TransferFunction::color(float s) const {
+  if (colorX.empty()) return Color(1.0f);
+  std::size_t i;
+  float w;
+  locate(colorX, s, i, w);
+  return w > 0.0f ? colorY[i] + w * (colorY[i + 1] - colorY[i]) : colorY[i];
+}
+
+float TransferFunction::opacity(float s) const {
+  if (opacityX.empty()) return 0.0f;
+  std::size_t i;
+  float w;
+  locate(opacityX, s, i, w);
+  return w > 0.0f ? opacityY[i] + w * (opacityY[i + 1] - opacityY[i]) : opacityY[i];
+}
+
+std::string Volume::prepare(std::size_t& invalidScalars) {
+  ready_ = false;
+  invalidScalars = 0;
+  static const char* kAxis[3] = {"x", "y", "z"};
+  std::size_t n = 1;
+  for (int a = 0; a < 3; ++a) {
+    if (grid.dims[a] < 1) return "volume: no points along " + std::string(kAxis[a]);
+    if (grid.dims[a] == 1)
+      return "volume: a single point along " + std::string(kAxis[a]) + " (a slice has no thickness to march)";
+    n *= std::size_t(grid.dims[a]);
+  }
+  if (grid.scalars.size() != n)
+    return "volume: " + std::to_string(grid.scalars.size()) + " scalars for " + std::to_string(n) + " points";
+  if (!isFinite(grid.origin)) return "volume: non-finite origin";
+  for (int a = 0; a < 3; ++a)
+    if (!(std::isfinite(grid.spacing[a]) && grid.spacing[a] != 0.0))
+      return "volume: spacing along " + std::string(kAxis[a]) + " is zero or not finite";
+  Mat3 toWorld = grid.direction;
+  for (int a = 0; a < 3; ++a) toWorld[a] *= grid.spacing[a];
+  const double det = glm::determinant(toWorld);
+  if (!(std::isfinite(det) && det != 0.0)) return "volume: direction matrix singular or not finite";
+  toIndex_ = glm::inverse(toWorld);
+  if (!std::isfinite(transfer.unitDistance) || transfer.unitDistance <= 0.0)
+    return "volume: scalar opacity unit distance must be positive";
+  sortNodes(transfer.colorX, transfer.colorY);
+  sortNodes(transfer.opacityX, transfer.opacityY);
+
+  // Non-finite scalars: NaN, which sampling reads as transparent
+  for (float& s : grid.scalars)
+    if (!std::isfinite(s)) {
+      s = std::numeric_limits<float>::quiet_NaN();
+      ++invalidScalars;
+    }
+
+  // World bounds: the eight corners of the point box
+  bounds_ = Bounds3();
+  for (int c = 0; c < 8; ++c) {
+    Vec3 idx((c & 1) ? grid.dims[0] - 1 : 0, (c & 2) ? grid.dims[1] - 1 : 0, (c & 4) ? grid.dims[2] - 1 : 0);
+    const Vec3 p = grid.origin + toWorld * idx;
+    bounds_.lo = glm::min(bounds_.lo, p);
+    bounds_.hi = glm::max(bounds_.hi, p);
+  }
+  double shortest = kInfinity;
+  for (int a = 0; a < 3; ++a) shortest = std::min(shortest, glm::length(toWorld[a]));
+  const double diagonal = glm::length(bounds_.hi - bounds_.lo);
+  step_ = std::isfinite(sampleDistance) && sampleDistance > 0.0 ? sampleDistance : 0.5 * shortest;
+  step_ = std::max(step_, diagonal / kMaxSteps);
+  if (!(std::isfinite(step_) && step_ > 0.0)) return "volume: no usable step (grid extent not finite)";
+  buildTable();
+  ready_ = true;
+  return std::string();
+}
+
+void Volume::buildTable() {
+  // Over the range of both functions' nodes; outside it both are constant (clamped)
+  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+  for (const std::vector<float>* xs : {&transfer.colorX, &transfer.opacityX})
+    for (float x : *xs) {
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+    }
+  if (!(lo <= hi)) lo = hi = 0.0f;  // no nodes
+  const int n = hi > lo ? kTableSize : 1;
+  tableMin_ = lo;
+  tableScale_ = hi > lo ? float(double(n - 1) / (double(hi) - double(lo))) : 0.0f;
+  if (!std::isfinite(tableScale_)) tableScale_ = 0.0f;
+  table_.resize(std::size_t(n));
+  const double ratio = step_ / transfer.unitDistance;
+  for (int i = 0; i < n; ++i) {
+    const float s = n > 1 ? float(double(lo) + (double(hi) - double(lo)) * i / (n - 1)) : lo;
+    Entry& e = table_[std::size_t(i)];
+    e.color = transfer.color(s);
+    e.opacity = transfer.opacity(s);
+    e.alphaStep = float(-std::expm1(std::log1p(-double(e.opacity)) * ratio));
+  }
+}
+
+Volume::Entry Volume::lookup(float s) const {
+  float x = (s - tableMin_) * tableScale_;
+  const float last = float(table_.size() - 1);
+  x = x > 0.0f ? (x < last ? x : last) : 0.0f;  // NaN (an overflowed s - tableMin_ times 0) gives 0
+  const std::size_t i = std::size_t(x);
+  const std::size_t j = std::min(i + 1, table_.size() - 1);
+  const float f = x - float(i);
+  const Entry &a = table_[i], &b = table_[j];
+  return Entry{a.color + f * (b.color - a.color), a.opacity + f * (b.opacity - a.opacity),
+               a.alphaStep + f * (b.alphaStep - a.alphaStep)};
+}
+
+bool Volume::clip(const Ray& ray, double& t0, double& t1) const {
+  // Slabs of the index box [0, n - 1] per axis, in index space (t keeps its meaning)
+  const Vec3 o = toIndex_ * (ray.origin - grid.origin);
+  const Vec3 d = toIndex_ * ray.dir;
+  for (int a = 0; a < 3; ++a) {
+    const double hi = double(grid.dims[a] - 1);
+    if (d[a] == 0.0) {
+      if (!(o[a] >= 0.0 && o[a] <= hi)) return false;
+      continue;
+    }
+    double ta = (0.0 - o[a]) / d[a], tb = (hi - o[a]) / d[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  return t0 < t1;
+}
+
+float Volume::sample(const Vec3& index) const {
+  return sampleIndex(index);
+}
+
+inline float Volume::sampleIndex(const Vec3& index) const {
+  const int nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
+  double p[3];
+  for (int a = 0; a < 3; ++a) {
+    const double hi = double(grid.dims[a] - 1);
+    p[a] = index[a] >= 0.0 ? (index[a] <= hi ? index[a] : hi) : 0.0;  // NaN -> 0
+  }
+  const float* s = grid.scalars.data();
+  if (interpolation == VolumeInterpolation::Nearest) {
+    const std::size_t i = std::size_t(p[0] + 0.5), j = std::size_t(p[1] + 0.5), k = std::size_t(p[2] + 0.5);
+    return s[(k * std::size_t(ny) + j) * std::size_t(nx) + i];
+  }
+  int i0[3];
+  float f[3];
+  for (int a = 0; a < 3; ++a) {
+    i0[a] = std::min(int(p[a]), grid.dims[a] - 2);
+    f[a] = float(p[a] - double(i0[a]));
+  }
+  const std::size_t sx = 1, sy = std::size_t(nx), sz = std::size_t(nx) * std::size_t(ny);
+  const float* c = s + std::size_t(i0[2]) * sz + std::size_t(i0[1]) * sy + std::size_t(i0[0]);
+  const float c00 = c[0] + f[0] * (c[sx] - c[0]);
+  const float c10 = c[sy] + f[0] * (c[sy + sx] - c[sy]);
+  const float c01 = c[sz] + f[0] * (c[sz + sx] - c[sz]);
+  const float c11 = c[sz + sy] + f[0] * (c[sz + sy + sx] - c[sz + sy]);
+  const float c0 = c00 + f[1] * (c10 - c00);
+  const float c1 = c01 + f[1] * (c11 - c01);
+  (void)nz;
+  return c0 + f[2] * (c1 - c0);
+}
+
+void Volume::march(const Ray& ray, double t0, double t1, bool emission, float stopBelow, VolumeMarch& acc) const {
+  const double len = glm::length(ray.dir);
+  if (!(t1 > t0) || !(len > 0.0)) return;
+  const Vec3 o = toIndex_ * (ray.origin - grid.origin);
+  const Vec3 d = toIndex_ * ray.dir;
+  const double dt = step_ / len;
+  const double count = std::ceil((t1 - t0) / dt);
+  if (!(count >= 1.0)) return;
+  const int64_t steps = int64_t(std::min(count, 2.0 * kMaxSteps));
+  const double perUnit = len / transfer.unitDistance;
+  for (int64_t k = 0; k < steps; ++k) {
+    const double ta = t0 + double(k) * dt;
+    const bool full = k + 1 < steps && ta + dt <= t1;
+    const double tb = full ? ta + dt : t1;
+    if (!(tb > ta)) continue;
+    const float s = sampleIndex(o + (0.5 * (ta + tb)) * d);
+    ++acc.samples;
+    if (std::isnan(s)) {
+      ++acc.invalidSamples;
+      continue;
+    }
+    const Entry e = lookup(s);
+    if (e.opacity <= 0.0f) continue;
+    // 1 - (1 - a)^(h / unitDistance), from the table for a full step; a = 1 gives log1p(-1) = -inf and alpha 1
+    const float alpha = full ? e.alphaStep : float(-std::expm1(std::log1p(-double(e.opacity)) * (tb - ta) * perUnit));
+    if (emission) acc.color += (acc.transmittance * alpha) * e.color;
+    acc.transmittance *= 1.0f - alpha;
+    if (acc.transmittance < stopBelow) {
+      acc.terminated = true;
+      return;
+    }
+  }
+}
+
+}  // namespace whitted

@@ -1,0 +1,118 @@
+// A volume: point scalars on a regular grid (origin, spacing, direction matrix, as vtkImageData), a transfer function
+// (piecewise-linear RGB colour and scalar opacity with VTK's ScalarOpacityUnitDistance) and the emission-absorption
+// march of one ray segment through it, front to back. The scene keeps volumes beside its objects (Scene::addVolume)
+// and orders the segments of several volumes along a ray (scene/volumes.cpp); the integrator composites them with
+// the surfaces (shading/volume_march.cpp).
+#pragma once
+
+#include "util/math.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace whitted {
+
+/// Piecewise-linear functions of the scalar, clamped to their end values outside their range (VTK's Clamping on).
+/// Nodes must be in increasing x; Volume::prepare sorts them and clamps values to [0, 1].
+struct TransferFunction {
+  std::vector<float> colorX;
+  std::vector<Color> colorY;  ///< Linear RGB in [0, 1]. No node: white.
+  std::vector<float> opacityX;
+  std::vector<float> opacityY;  ///< Opacity per unitDistance of path, in [0, 1]. No node: fully transparent.
+  /// vtkVolumeProperty::ScalarOpacityUnitDistance: the path length over which a sample's opacity applies as given;
+  /// a step of length h has alpha 1 - (1 - opacity)^(h / unitDistance). Default 1.
+  double unitDistance = 1.0;
+
+  Color color(float s) const;
+  float opacity(float s) const;
+};
+
+enum class VolumeInterpolation { Nearest, Linear };
+
+/// One-component point scalars on a regular grid: the point (i, j, k) is at origin + direction * (spacing * (i, j, k))
+/// (vtkImageData's index-to-physical map; direction is a GLM matrix, its columns the grid axes). Scalars x fastest,
+/// stored as float (convert once with fromScalars).
+struct VolumeGrid {
+  int dims[3] = {0, 0, 0};
+  Vec3 origin{0.0};
+  Vec3 spacing{1.0};
+  Mat3 direction{1.0};
+  std::vector<float> scalars;
+
+  /// A grid of data[nx * ny * nz] of any arithmetic type (float, double, integers), converted to float once.
+  template <typename T>
+  static VolumeGrid fromScalars(const int dims[3], const T* data) {
+    VolumeGrid g;
+    std::size_t n = 1;
+    for (int a = 0; a < 3; ++a) {
+      g.dims[a] = dims[a];
+      n *= std::size_t(dims[a] > 0 ? dims[a] : 0);
+    }
+    g.scalars.resize(n);
+    for (std::size_t i = 0; i < n; ++i) g.scalars[i] = float(data[i]);
+    return g;
+  }
+  std::size_t memoryBytes() const { return scalars.capacity() * sizeof(float); }
+};
+
+/// Front-to-back accumulation along a ray: premultiplied colour and transmittance (1 - opacity).
+struct VolumeMarch {
+  Color color{0.0f};
+  float transmittance = 1.0f;
+  bool terminated = false;        ///< Stopped early: transmittance fell below the stop threshold.
+  uint64_t samples = 0;           ///< Samples taken.
+  uint64_t invalidSamples = 0;    ///< Samples that read a non-finite scalar (taken as transparent).
+};
+
+struct Volume {
+  VolumeGrid grid;
+  TransferFunction transfer;
+  VolumeInterpolation interpolation = VolumeInterpolation::Linear;
+  /// Step along rays, world units; 0 (default): half the shortest grid axis spacing (a mapper's usual sample
+  /// distance). At least the grid's diagonal / kMaxSteps.
+  double sampleDistance = 0.0;
+  bool visible = true;
+  static constexpr double kMaxSteps = 20000.0;
+
+  /// Checks and prepares the volume for marching (world bounds, index map, step; transfer functions sorted and
+  /// clamped; infinite scalars made NaN). Returns an empty string if it can be traced, else why not (it is then
+  /// skipped). invalidScalars gets the number of non-finite scalars (traced as transparent).
+  std::string prepare(std::size_t& invalidScalars);
+  bool ready() const { return ready_; }
+  const Bounds3& bounds() const { return bounds_; }  ///< World bounds (after prepare).
+  double step() const { return step_; }
+  /// Entries of the transfer-function table (colour, opacity and a full step's alpha over the range of the nodes,
+  /// interpolated linearly like the 1D textures of VTK's GPU mapper): exact where the functions are linear between
+  /// table entries, e.g. constant.
+  static constexpr int kTableSize = 1024;
+
+  /// Parameter interval of the ray inside the grid's box, intersected with (t0, t1); false if empty.
+  bool clip(const Ray& ray, double& t0, double& t1) const;
+  /// The scalar at a point in index coordinates (clamped to the grid), by the interpolation mode. NaN where a
+  /// non-finite scalar is used.
+  float sample(const Vec3& index) const;
+  /// Emission-absorption over the ray parameter interval [t0, t1] (inside the box: see clip), front to back into
+  /// acc: samples at the middle of steps of step() (the last one shorter), each with alpha
+  /// 1 - (1 - opacity)^(length / unitDistance), colour added as acc.transmittance x alpha x colour (emission false:
+  /// transmittance only). Stops once acc.transmittance < stopBelow (acc.terminated).
+  void march(const Ray& ray, double t0, double t1, bool emission, float stopBelow, VolumeMarch& acc) const;
+
+ private:
+  bool ready_ = false;
+  Bounds3 bounds_;
+  Mat3 toIndex_{1.0};  ///< World vector -> index-space vector.
+  double step_ = 1.0;
+  struct Entry {
+    Color color;
+    float opacity;
+    float alphaStep;  ///< 1 - (1 - opacity)^(step / unitDistance)
+  };
+  std::vector<Entry> table_;
+  float tableMin_ = 0.0f, tableScale_ = 0.0f;  ///< Entry index = (scalar - tableMin_) x tableScale_.
+  void buildTable();
+  Entry lookup(float s) const;
+  float sampleIndex(const Vec3& index) const;  ///< sample() without the call
+};
+
+}  // namespace whitted

@@ -1,0 +1,93 @@
+// The scene's volumes: registry, preparation at commit, and the march of a ray through all of them in order.
+#include "scene/scene.h"
+
+#include <algorithm>
+
+namespace whitted {
+
+uint32_t Scene::addVolume(Volume v) {
+  volumes_.emplace_back();
+  volumes_.back().volume = std::move(v);
+  return uint32_t(volumes_.size() - 1);
+}
+
+void Scene::setVolume(uint32_t id, Volume v) {
+  SceneVolume& sv = volumes_[id];
+  sv = SceneVolume{};
+  sv.volume = std::move(v);
+}
+
+void Scene::setVolumeTransfer(uint32_t id, const TransferFunction& tf) {
+  volumes_[id].volume.transfer = tf;
+  volumes_[id].dirty = true;
+}
+
+void Scene::setVolumeVisible(uint32_t id, bool visible) {
+  if (volumes_[id].volume.visible == visible) return;
+  volumes_[id].volume.visible = visible;
+  topDirty_ = true;
+}
+
+void Scene::removeVolume(uint32_t id) {
+  volumes_[id] = SceneVolume{};
+  volumes_[id].alive = false;
+  volumes_[id].dirty = false;
+  volumes_[id].volume.grid.scalars = std::vector<float>();
+  topDirty_ = true;
+}
+
+void Scene::prepareVolumes(CommitStats& st) {
+  for (SceneVolume& v : volumes_) {
+    if (!v.alive || !v.dirty) continue;
+    std::size_t invalid = 0;
+    v.error = v.volume.prepare(invalid);
+    v.dirty = false;
+    st.invalidVoxels += invalid;
+    st.invalidVolumes += !v.error.empty();
+    topDirty_ = true;
+  }
+}
+
+void Scene::addVolumeBounds() {
+  for (const SceneVolume& v : volumes_)
+    if (v.traced()) bounds_.extend(v.volume.bounds());
+}
+
+void Scene::volumeStats(SceneStats& s) const {
+  for (const SceneVolume& v : volumes_) {
+    if (!v.traced()) continue;
+    ++s.volumes;
+    s.volumeBytes += v.volume.grid.memoryBytes();
+  }
+}
+
+void Scene::marchVolumes(const Ray& ray, double tEnd, bool emission, float stopBelow, VolumeMarch& acc) const {
+  // The segments of the ray in each traced volume, marched in the order they are entered
+  struct Segment {
+    double t0, t1;
+    const Volume* v;
+  };
+  Segment local[8];  // no allocation for up to 8 volumes on a ray
+  std::vector<Segment> many;
+  std::size_t n = 0;
+  for (const SceneVolume& sv : volumes_) {
+    if (!sv.traced()) continue;
+    double t0 = ray.tMin, t1 = std::min(tEnd, ray.tMax);
+    if (!sv.volume.clip(ray, t0, t1)) continue;
+    const Segment s{t0, t1, &sv.volume};
+    if (n < 8) {
+      local[n] = s;
+    } else {
+      if (many.empty()) many.assign(local, local + 8);
+      many.push_back(s);
+    }
+    ++n;
+  }
+  if (n == 0) return;
+  Segment* seg = n <= 8 ? local : many.data();
+  std::sort(seg, seg + n, [](const Segment& a, const Segment& b) { return a.t0 < b.t0; });
+  for (std::size_t i = 0; i < n && !acc.terminated; ++i)
+    seg[i].v->march(ray, seg[i].t0, seg[i].t1, emission, stopBelow, acc);
+}
+
+}  // namespace whitted
