@@ -183,7 +183,7 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
     // bucket (a quarter octave each), taken from the top bucket down
     const float least = float(kLeastEstimateShare * s_.targetError);
     std::vector<Choice> choices(acc_.size());
-    std::vector<double> bucketRays(kBuckets, 0.0);
+    std::vector<double> bucketRays(kBuckets, 0.0), bucketGain(kBuckets, 0.0);
     // A pixel kept (gain 0) has no bucket of its own: the lowest. Clamped in float, before the conversion to
     // int, which is undefined for log2(0) = -inf (UBSan's finding in CI)
     auto bucketOf = [](float g) {
@@ -195,13 +195,29 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
       if (!fb_.traced[i] || !(canSample(i) || canLoosen(i))) continue;
       if (!single(i) && (estimate(i) < least || estimate(i) <= 0.0f)) continue;
       choices[i] = choose(i);
-      if (choices[i].action != kKeep && choices[i].gainPerRay > 0.0f)
-        bucketRays[std::size_t(bucketOf(choices[i].gainPerRay))] += choices[i].rays;
-      else
+      if (choices[i].action != kKeep && choices[i].gainPerRay > 0.0f) {
+        const std::size_t b = std::size_t(bucketOf(choices[i].gainPerRay));
+        bucketRays[b] += choices[i].rays;
+        bucketGain[b] += double(choices[i].gainPerRay) * choices[i].rays;  // its expected squared-error drop
+      } else {
         choices[i].action = kKeep;
+      }
+    }
+    // ... or, near the target, fewer: the top buckets whose expected drop of the image's squared error is
+    // kNeedMargin times what the target still needs (a round of the full size overshot the target: 0.8x the
+    // samples per pixel at the stop over the study's scenes, data/benchmark/target-error/README.md)
+    double need = -1.0;
+    if (s_.targetError > 0.0) {
+      std::size_t traced = 0;
+      for (std::size_t i = 0; i < acc_.size(); ++i) traced += fb_.traced[i] != 0;
+      const double rms = fs.calibrated.rms, t = s_.targetError;
+      need = rms > t ? kNeedMargin * (rms * rms - t * t) * double(traced) : -1.0;
     }
     int cutBucket = kBuckets;
-    for (double sum = 0.0; cutBucket > 0 && sum < roundRays;) sum += bucketRays[std::size_t(--cutBucket)];
+    for (double sum = 0.0, gain = 0.0; cutBucket > 0 && sum < roundRays && (need < 0.0 || gain < need);) {
+      sum += bucketRays[std::size_t(--cutBucket)];
+      gain += bucketGain[std::size_t(cutBucket)];
+    }
     // The estimate is under the target but for the one-sample pixels: this round gives all of them (and only
     // them) their grids, whatever the round's size
     const bool singlesOnly = s_.targetError > 0.0 && fs.calibrated.rms <= s_.targetError;

@@ -25,6 +25,9 @@ constexpr double kBudgetRoundsLeft = 1.5;
 /// A pixel is refined only if its total estimate is at least this share of the target error (refining pixels
 /// already well below the target does little for the RMS).
 constexpr double kLeastEstimateShare = 0.5;
+/// A round near the target is cut to the pixels whose expected drop of the image's squared error is this many
+/// times what the target still needs (rms^2 - target^2 summed over the pixels)
+constexpr double kNeedMargin = 1.5;
 /// The least squared sampling estimate a one-sample pixel is ranked by, as a share of the squared target: such
 /// a pixel must get its grid before the target counts as met (its neighbour rule may miss a thin feature), so it
 /// stays a candidate even where its neighbours predict it.

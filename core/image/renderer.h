@@ -109,9 +109,9 @@ struct RenderSettings {
   /// bound scaled by the share of it that loosening actually changed on the pixels loosened so far from that
   /// level (the bound is an upper bound, up to 40x the measured truncation on glass; the truncation part reported
   /// stays the bound). Each pixel takes its better way; a round takes the pixels with the most gain per ray (only
-  /// those above half the target, and one-sample pixels) up to half the rays of the image so far, and with a
-  /// timeBudget at most what the time left can trace at the rate so far (the whole rest when less than 1.5 rounds
-  /// are left).
+  /// those above half the target, and one-sample pixels) up to half the rays of the image so far (near the target
+  /// fewer: an expected drop kNeedMargin x what the target still needs), with a timeBudget at most what the time
+  /// left can trace at the rate so far (the whole rest when less than 1.5 rounds are left).
   double targetError = 0.0;
   double timeBudget = 0.0;          ///< Seconds for the whole frame; checked between tiles (overshoot <= one tile).
   int maxProgressiveSamples = 256;  ///< Most samples a pixel gets from refinement. Default 256.

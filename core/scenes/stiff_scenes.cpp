@@ -118,4 +118,36 @@ void buildFenceScene(Scene& s, CameraSpec& cam) {
   cam.viewAngle = 40.0;
 }
 
+void buildTextScene(Scene& s, CameraSpec& cam) {
+  // A white page with 8 rows of 16 seven-segment glyphs: strokes 0.0075 wide, about a third of a pixel at 160 x 120
+  addMesh(s, makeGrid(Vec3(-1.6, -1.2, 0), Vec3(3.2, 0, 0), Vec3(0, 2.4, 0), 1, 1),
+          diffuseMaterial(Color(0.95f, 0.93f, 0.88f)));
+  const Material ink = diffuseMaterial(Color(0.05f, 0.05f, 0.1f));
+  const double t = 0.0075, gw = 0.12, gh = 0.2, z0 = 0.0, z1 = 0.004;
+  unsigned seed = 12345u;
+  for (int row = 0; row < 8; ++row)
+    for (int col = 0; col < 16; ++col) {
+      seed = seed * 1664525u + 1013904223u;
+      const unsigned segs = (seed >> 8) & 0x7fu;
+      const double x = -1.45 + 0.18 * col, y = 0.85 - 0.27 * row;
+      const double mid = y + 0.5 * gh;
+      auto bar = [&](double x0, double y0, double x1, double y1) {
+        addMesh(s, makeBoxMesh(Vec3(x0, y0, z0), Vec3(x1, y1, z1)), ink);
+      };
+      if (segs & 1u) bar(x, y + gh - t, x + gw, y + gh);    // top
+      if (segs & 2u) bar(x + gw - t, mid, x + gw, y + gh);  // upper right
+      if (segs & 4u) bar(x + gw - t, y, x + gw, mid);       // lower right
+      if (segs & 8u) bar(x, y, x + gw, y + t);              // bottom
+      if (segs & 16u) bar(x, y, x + t, mid);                // lower left
+      if (segs & 32u) bar(x, mid, x + t, y + gh);           // upper left
+      if (segs & 64u || segs == 0u) bar(x, mid - 0.5 * t, x + gw, mid + 0.5 * t);  // middle
+    }
+  s.lights().push_back(makePointLight(Vec3(1, 1.5, 3)));
+  s.background = Color(0.15f, 0.2f, 0.3f);
+  // slightly oblique, so the strokes do not line up with the pixel grid
+  cam.eye = Vec3(0.5, -0.35, 3.95);
+  cam.focal = Vec3(0, 0, 0);
+  cam.viewAngle = 40.0;
+}
+
 }  // namespace whitted

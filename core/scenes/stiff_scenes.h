@@ -31,4 +31,9 @@ void buildLightInGlassScene(Scene& scene, CameraSpec& cam);
 /// lights (the second at half intensity).
 void buildFenceScene(Scene& scene, CameraSpec& cam);
 
+/// Text-like fine detail (issue 28): a white page under one light with 8 rows of 16 seven-segment glyphs whose
+/// strokes are 0.0075 wide (about a third of a pixel at 160 x 120), seen slightly obliquely so that the strokes do
+/// not line up with the pixel grid: aliasing dominates the error.
+void buildTextScene(Scene& scene, CameraSpec& cam);
+
 }  // namespace whitted

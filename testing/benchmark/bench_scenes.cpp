@@ -397,7 +397,8 @@ bool buildNamed(const std::string& name, const std::vector<std::string>& dataDir
       {"mirrors", buildFacingMirrorsScene, "two facing mirrors (kr 0.9), up to ~20 bounces"},
       {"nestedglass", buildNestedGlassScene, "glass sphere in a glass sphere (kr + kt = 1), opaque core"},
       {"lightinglass", buildLightInGlassScene, "point light inside two glass boxes (shadow transmittance 0.12)"},
-      {"fence", buildFenceScene, "mirror floor, glass sphere, a fence of thin posts, a cube, two lights"}};
+      {"fence", buildFenceScene, "mirror floor, glass sphere, a fence of thin posts, a cube, two lights"},
+      {"text", buildTextScene, "a page of seven-segment glyphs with strokes a third of a pixel wide"}};
   for (const Stiff& st : stiff)
     if (name == st.name) {
       st.build(out.scene, out.camera);
