@@ -4,8 +4,8 @@ A Whitted view with a Target Error and/or a Time Budget in the GUI's layout: onc
 (1.5 s after its first frame), a fresh still frame (the script's Target Error and Time Budget set then; from a
 state file, a camera nudge; for toolbar and shell, the playback's camera drag) and one Render(); the view must
 render again by itself (its timer on the Qt interactor), one refinement round per frame, the annotation showing
-"refining" with growing samples per pixel and a falling estimate (a rise of up to 10% over its lowest so far
-allowed: new samples can reveal variance) and "<seconds> of <budget> s" with a budget, until a frame reports the end:
+"refining" with growing samples per pixel and a falling estimate (below its first value at the end and never
+above it; not frame by frame: new samples can reveal variance) and "<seconds> of <budget> s" with a budget, until a frame reports the end:
 the target met, or (a budget without target) the whole budget spent; then it must stop rendering. The script
 exits the GUI with 0 when that was seen, 1 when a frame went wrong or nothing happened for 90 s.
 
@@ -104,11 +104,13 @@ def on_frame(obj, event):
     if len(refining) < (3 if TARGET > 0 else 2):
         problems.append("only %d frames refining" % len(refining))
     # Every round adds samples (or, a truncation round, deepens the depth with none lost): samples per pixel
-    # never fall and grow over the series. The calibrated estimate falls over the series; a round's new samples
-    # may reveal variance its pixels' first samples hid, so it may rise a little (seen: up to 3%), never 10%
+    # never fall and grow over the series. The calibrated estimate falls over the series: it ends below where it
+    # started and never goes above it. Not frame by frame: a round's new samples may reveal variance its pixels'
+    # first samples hid (seen in CI: 0.0009 -> 0.0011 at 13 spp, the annotation's 4 decimals making it look 22%),
+    # and how many rounds a frame shows depends on timing
     if any(b < a for a, b in zip(spp, spp[1:])) or spp[-1] <= spp[0]:
         problems.append("samples per pixel did not grow round by round: %s" % spp)
-    if errors[-1] >= errors[0] or any(e > 1.1 * min(errors[:i]) for i, e in enumerate(errors) if i > 0):
+    if errors[-1] >= errors[0] or any(e > errors[0] for e in errors[1:]):
         problems.append("the estimate did not fall: %s" % errors)
     if TARGET > 0 and ("target %g met" % TARGET) not in text:
         problems.append("the last frame did not meet the target")
