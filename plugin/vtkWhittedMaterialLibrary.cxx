@@ -177,66 +177,76 @@ const char* vtkWhittedMaterialLibrary::GetPresetName(int index)
   return (index >= 0 && index < GetNumberOfPresets()) ? Presets[index].Name : nullptr;
 }
 
+namespace
+{
+/// The built-in preset called name, or nullptr (also for a null name).
+const Preset* FindPreset(const char* name)
+{
+  if (!name)
+  {
+    return nullptr;
+  }
+  for (const Preset& p : Presets)
+  {
+    if (std::string(p.Name) == name)
+    {
+      return &p;
+    }
+  }
+  return nullptr;
+}
+} // namespace
+
 bool vtkWhittedMaterialLibrary::GetPresetHighlight(
   const char* name, double& specular, double& specularPower, double specularColor[3])
 {
-  for (const Preset& p : Presets)
+  const Preset* p = FindPreset(name);
+  if (!p || std::string(p->Name) == "None")
   {
-    if (name && std::string(p.Name) == name && std::string(p.Name) != "None")
-    {
-      specular = p.Light.Specular;
-      specularPower = p.Light.Power;
-      for (int i = 0; i < 3; ++i)
-      {
-        specularColor[i] = p.Light.Color[i];
-      }
-      return true;
-    }
+    return false;
   }
-  return false;
+  specular = p->Light.Specular;
+  specularPower = p->Light.Power;
+  for (int i = 0; i < 3; ++i)
+  {
+    specularColor[i] = p->Light.Color[i];
+  }
+  return true;
 }
 
 bool vtkWhittedMaterialLibrary::GetPresetFields(const char* name, double& reflectance,
   double reflectanceColor[3], double& transmittance, double& indexOfRefraction,
   double attenuationColor[3], double& attenuationDistance)
 {
-  for (const Preset& p : Presets)
+  const Preset* p = FindPreset(name);
+  if (!p)
   {
-    if (name && std::string(p.Name) == name)
-    {
-      const WhittedKeys& k = p.Keys;
-      const RGB kr = k.HasReflectance ? k.Reflectance : RGB{ 0, 0, 0 };
-      reflectance = std::max({ kr[0], kr[1], kr[2] });
-      transmittance =
-        k.HasTransmittance ? std::max({ k.Transmittance[0], k.Transmittance[1], k.Transmittance[2] }) : 0.0;
-      for (int i = 0; i < 3; ++i)
-      {
-        reflectanceColor[i] = reflectance > 0.0 ? kr[i] / reflectance : 1.0;
-        attenuationColor[i] = k.AttenuationColor[i];
-      }
-      indexOfRefraction = k.IndexOfRefraction;
-      attenuationDistance = k.AttenuationDistance;
-      return true;
-    }
+    return false;
   }
-  return false;
+  const WhittedKeys& k = p->Keys;
+  const RGB kr = k.HasReflectance ? k.Reflectance : RGB{ 0, 0, 0 };
+  reflectance = std::max({ kr[0], kr[1], kr[2] });
+  transmittance =
+    k.HasTransmittance ? std::max({ k.Transmittance[0], k.Transmittance[1], k.Transmittance[2] }) : 0.0;
+  for (int i = 0; i < 3; ++i)
+  {
+    reflectanceColor[i] = reflectance > 0.0 ? kr[i] / reflectance : 1.0;
+    attenuationColor[i] = k.AttenuationColor[i];
+  }
+  indexOfRefraction = k.IndexOfRefraction;
+  attenuationDistance = k.AttenuationDistance;
+  return true;
 }
 
 bool vtkWhittedMaterialLibrary::ApplyPreset(const char* name, vtkProperty* property)
 {
-  if (!name || !property)
+  const Preset* p = property ? FindPreset(name) : nullptr;
+  if (!p)
   {
     return false;
   }
-  for (const Preset& p : Presets)
-  {
-    if (std::string(p.Name) == name)
-    {
-      ApplyKeys(p.Keys, property);
-      return true;
-    }
-  }
-  return false;
+  ApplyKeys(p->Keys, property);
+  return true;
 }
 
 //------------------------------------------------------------------------------
