@@ -100,7 +100,7 @@ void FrameJob::addSample(const Sample& smp, PixelSums& ps, RayStats& st) const {
   if (smp.hit) {
     ps.anyHit = true;
     const double z = camera_.glDepth(smp.firstHit);
-    if (!(z >= -1e-6 && z <= 1.0 + 1e-6)) ++st.clampedDepth;  // safety net, counted
+    if (!(z >= -1e-6 && z <= 1.0 + 1e-6) && !depthWithinSlack(smp)) ++st.clampedDepth;  // safety net, counted
     ps.depth = std::min(ps.depth, float(std::clamp(std::isfinite(z) ? z : 1.0, 0.0, 1.0)));
   }
   ps.alpha += smp.alpha;
@@ -110,6 +110,12 @@ void FrameJob::addSample(const Sample& smp, PixelSums& ps, RayStats& st) const {
     ps.sumOdd += smp.color;
     ++ps.nOdd;
   }
+}
+
+bool FrameJob::depthWithinSlack(const Sample& smp) const {
+  const Vec3 step = double(smp.firstHitSlack) * camera_.viewDirection();
+  const double a = camera_.glDepth(smp.firstHit - step), b = camera_.glDepth(smp.firstHit + step);
+  return std::isfinite(a) && std::isfinite(b) && std::max(a, b) >= -1e-6 && std::min(a, b) <= 1.0 + 1e-6;
 }
 
 FrameJob::FilmPixel FrameJob::resolvePixel(const PixelSums& ps, RayStats& st) const {

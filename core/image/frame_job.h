@@ -42,6 +42,9 @@ class FrameJob {
                     const Color* background, int psStride) const;
   /// Adds one traced camera sample to ps.
   void addSample(const Sample& smp, PixelSums& ps, RayStats& st) const;
+  /// Whether some point within smp.firstHitSlack of smp.firstHit along the view direction has a GL depth in [0, 1]
+  /// (within 1e-6): a depth outside that can come from a surface crossing the near or far plane, not from a bug.
+  bool depthWithinSlack(const Sample& smp) const;
   /// What the frame buffer gets for a pixel (and hitMask_).
   struct FilmPixel {
     Color4 color{0.0f};

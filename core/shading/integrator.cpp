@@ -190,6 +190,7 @@ Sample Integrator::finishPath(const Color& color, double tHit, const Vec3& first
   out.color = color;
   out.hit = std::isfinite(tHit);
   out.firstHit = first;
+  out.firstHitSlack = ps.firstHitSlack;
   out.truncationBound = ps.truncation;
 
   // Safety nets, counted so that tests can assert they caught nothing: coverage outside [0, 1] (beyond rounding)
@@ -301,7 +302,10 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
   else frameHit(ray, hit, depth, ps, own);
   const HitFrame& f = pre ? pre->frame : own;
   if (tHit) *tHit = hit.t;
-  if (firstHit) *firstHit = f.sp.p;
+  if (firstHit) {
+    *firstHit = f.sp.p;
+    ps.firstHitSlack = firstHitSlack(ray, hit.t, f.sp);
+  }
   const Material& m = f.material();
 
   Color result;

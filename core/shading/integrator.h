@@ -135,6 +135,10 @@ struct Sample {
   float alpha = 0.0f;
   bool hit = false;
   Vec3 firstHit{0.0};       ///< World point of the first hit (for depth).
+  /// How far the true first hit on the camera ray can lie from firstHit: the point's error bound plus its distance
+  /// from the ray (a surface point is projected onto the surface, e.g. a tube's). The depth net counts a depth
+  /// outside [0, 1] only when every point within this distance along the view direction is outside too.
+  float firstHitSlack = 0.0f;
   /// Upper bound (largest channel) on the radiance the depth cap and the contribution threshold left out of
   /// color: what each cut ray could still have returned, plus light dropped by shadow rays cut by the threshold.
   float truncationBound = 0.0f;
@@ -238,6 +242,7 @@ class Integrator {
     float escaped = 0.0f;     ///< Weight (mean over RGB) of straight escapes, times 1 - backgroundAlpha.
     Color screenBackground{0.0f};  ///< What straight escapes see (see Sample).
     double pathLength = 0.0;       ///< Length of the path up to the current ray's origin (edge footprints).
+    float firstHitSlack = 0.0f;    ///< See Sample::firstHitSlack (set with the first hit).
   };
   using Kernel = Color (Integrator::*)(const Ray&, int, Color, bool, RayStats&, PathState&, double*, Vec3*,
                                        const FirstHit*) const;

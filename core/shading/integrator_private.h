@@ -91,6 +91,14 @@ inline void absorb(Color& c, const Material& m, double t) {
     if (m.absorption[i] > 0.0f) c[i] *= float(std::exp(-double(m.absorption[i]) * t));
 }
 
+// Sample::firstHitSlack of a first hit at t on ray with surface point sp: sp.p's error bound, its distance from the
+// ray's point at t, and that point's rounding (a few ulps of |origin| + |t dir|)
+inline float firstHitSlack(const Ray& ray, double t, const SurfacePoint& sp) {
+  const Vec3 onRay = ray.origin + t * ray.dir;
+  const double rounding = gammaBound(3) * (glm::length(ray.origin) + std::abs(t) * glm::length(ray.dir));
+  return float(glm::length(sp.pError) + glm::length(sp.p - onRay) + rounding);
+}
+
 }  // namespace whitted
 
 /// Calls M(Reflect, Refract, Shadows) for the eight kernel variants (explicit instantiations across the files).

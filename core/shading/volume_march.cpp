@@ -33,7 +33,10 @@ Color Integrator::throughVolumes(const Ray& ray, int depth, const Color& weight,
     ps.truncation += wmax * T * std::max(1.0f, remainingBound(depth));
     if (fh.found) {
       if (tHit) *tHit = fh.hit.t;
-      if (firstHit) *firstHit = fh.frame.sp.p;
+      if (firstHit) {
+        *firstHit = fh.frame.sp.p;
+        ps.firstHitSlack = firstHitSlack(ray, fh.hit.t, fh.frame.sp);
+      }
     }
     return vm.color;
   }

@@ -16,12 +16,11 @@
 //   instance transforms' translations within 1e3 in magnitude, instance transforms rotation x scale with scales in
 //   [1e-3, 1e3], near >= 1e-3 and far <= 1e4 x near (see TameCamera). Outside it (e.g. a triangle with vertices at
 //   1e150 whose hit point is rounded by 1e134, or a "camera" with its near plane behind the eye) the net may catch
-//   depths, as it is there to. NOT ASSERTED for now: inside that domain too, a surface point re-projected onto a
-//   tube that crosses the near plane can lie 1e-9 in front of it (depth -4.5e-6 with near 1e-3, beyond the net's
-//   fixed 1e-6 margin; fuzz_scene from seed 1 finds one at input 21969), and tubes far thinner than their
-//   coordinates lose hits to rounding (testing/fuzz/known/). The net's margin should come from the hit's error
-//   bound; until then the fuzz targets print its count and check depth by the range and independent-hit checks
-//   below, and Renderer.SafetyNetClampedDepthTripsOnNearPlaneBehindTheEye keeps its negative control.
+//   depths, as it is there to. The net counts a depth outside [0, 1] (by 1e-6) only when no point within the
+//   sample's firstHitSlack (the hit point's error bound plus its distance from the camera ray: a surface point
+//   projected onto a tube that crosses the near plane can lie 1e-9 in front of it, depth -4.5e-6 with near 1e-3,
+//   fuzz_scene from seed 1 at input 21969) along the view direction is inside. Asserted zero on valid cameras;
+//   Renderer.SafetyNetClampedDepthTripsOnNearPlaneBehindTheEye and the clampedDepth control show it can fire.
 //
 // The image checks (each can fail; WHITTED_FUZZ_CORRUPT shows it):
 // - every colour and alpha component finite, colour >= 0 (sanitised input has no negative colour or weight);
@@ -131,10 +130,7 @@ inline void checkFrame(const whitted::Scene& scene, const whitted::Camera& camer
   const std::pair<const char*, uint64_t> nets[] = {{"nonFiniteSamples", r.nonFiniteSamples},
                                                    {"clampedAlpha", r.clampedAlpha},
                                                    {"nonFinitePixels", r.nonFinitePixels},
-                                                   {"clampedDepth", 0}};  // not asserted: see above
-  if (validCamera && r.clampedDepth != 0)
-    std::fprintf(stderr, "note: depth net caught %llu on a valid camera (not asserted, see fuzz_checks.h)\n",
-                 static_cast<unsigned long long>(r.clampedDepth));
+                                                   {"clampedDepth", validCamera ? r.clampedDepth : 0}};
   for (const auto& net : nets)
     if (net.second != 0)
       fail(std::string("safety net ") + net.first + " caught " + std::to_string(net.second) + " on valid input");
