@@ -26,12 +26,22 @@ def make_views(plugin, size, first, all_lights=False):
     return views, order
 
 
-def share_camera(views):
-    """Resets the Render View's camera to what it shows and gives every view that camera."""
-    from paraview.simple import ResetCamera
+def share_camera(views, source):
+    """Gives every view the camera that resets the Render View's current one to the bounds of source's data (what
+    ParaView's ResetCamera computes: vtkRenderer::ResetCamera on the shown data's bounds), without rendering or
+    updating any view. paraview.simple.ResetCamera renders the view it resets: done on the Render View, that render
+    delivered and drew the new data untimed, so its timed "first" frame was a second frame of data already on the
+    GPU, while the Whitted view's was a true first frame. source must be up to date (its data information is read)."""
+    from vtkmodules.vtkRenderingCore import vtkRenderer
 
-    ResetCamera(views["render"])
-    cam = views["render"].GetActiveCamera()
+    ren = vtkRenderer()  # no window: aspect 1; the same camera as any view at least as wide as high
+    cam = ren.GetActiveCamera()
+    start = views["render"].GetActiveCamera()
+    cam.SetPosition(start.GetPosition())
+    cam.SetFocalPoint(start.GetFocalPoint())
+    cam.SetViewUp(start.GetViewUp())
+    cam.SetViewAngle(start.GetViewAngle())
+    ren.ResetCamera(source.GetDataInformation().GetBounds())
     for v in views.values():
         c = v.GetActiveCamera()
         c.SetPosition(cam.GetPosition())

@@ -83,7 +83,8 @@ def main():
     for mode, src in series.items():
         for name in order:
             Show(src, views[name])
-        share_camera(views)
+        src.UpdatePipeline(0.0)  # its bounds at the first step set the camera (untimed, as every step's filter)
+        share_camera(views, src)
         for rep_pass in ("first", "replay"):
             for t in range(args.steps):
                 src.UpdatePipeline(float(t))  # the filter is not what is compared
