@@ -497,7 +497,8 @@ void vtkWhittedSceneConverter::Update(
   {
     auto* volume = vtkVolume::SafeDownCast(prop);
     if (volume && volume->GetVisibility() &&
-      in.Volumes.Convert(volume, in.Warnings) != vtkWhittedVolumeConverter::OpenGL)
+      in.Volumes.Convert(volume, in.Warnings, result.VolumesConverted,
+        result.VolumeTransferUpdates) != vtkWhittedVolumeConverter::OpenGL)
     {
       volumesNotForOpenGL.insert(volume);
       ++result.TracedVolumes;

@@ -71,6 +71,8 @@ public:
     std::size_t TimeCacheBytes = 0; ///< Their memory, bytes.
     int TracedActors = 0;           ///< Leaf actors that became instances.
     int TracedVolumes = 0;          ///< Volumes traced (or not drawn for bad input).
+    int VolumesConverted = 0;       ///< Volume grids converted (new or changed image data).
+    int VolumeTransferUpdates = 0;  ///< Volumes whose transfer functions alone were updated.
     bool HeadlightShading = false;  ///< VTK light complexity 1 (one headlight) applies.
   };
 

@@ -20,6 +20,7 @@
 #include "scene/scene.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -29,6 +30,11 @@ namespace
 using whitted::Mat3;
 using whitted::Mat4;
 using whitted::Vec3;
+
+vtkMTimeType MTimeOf(vtkObject* o)
+{
+  return o ? o->GetMTime() : 0;
+}
 
 // Whether gradient opacity changes anything: set, enabled, and not 1 everywhere (VTK creates a
 // default function of 1 everywhere when anything asks for it)
@@ -229,7 +235,24 @@ whitted::TransferFunction Transfer(vtkVolumeProperty* p, const double range[2])
     }
     return std::make_pair(lo, hi);
   };
-  if (vtkColorTransferFunction* ctf = p->GetRGBTransferFunction(0))
+  // (VTK creates a default function for whichever is asked for: ask only for the one in use)
+  if (p->GetColorChannels(0) == 1)
+  {
+    vtkPiecewiseFunction* gray = p->GetGrayTransferFunction(0);
+    if (gray->GetSize() > 0)
+    {
+      const double* r = gray->GetRange();
+      const auto span = tabulate(r[0], r[1], tf.colorX);
+      std::vector<float> v(kNodes);
+      gray->GetTable(span.first, span.second, kNodes, v.data());
+      tf.colorY.resize(kNodes);
+      for (std::size_t i = 0; i < std::size_t(kNodes); ++i)
+      {
+        tf.colorY[i] = whitted::Color(v[i]);
+      }
+    }
+  }
+  else if (vtkColorTransferFunction* ctf = p->GetRGBTransferFunction(0))
   {
     if (ctf->GetSize() > 0)
     {
@@ -241,21 +264,6 @@ whitted::TransferFunction Transfer(vtkVolumeProperty* p, const double range[2])
       for (std::size_t i = 0; i < std::size_t(kNodes); ++i)
       {
         tf.colorY[i] = whitted::Color(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
-      }
-    }
-  }
-  else if (vtkPiecewiseFunction* gray = p->GetGrayTransferFunction(0))
-  {
-    if (gray->GetSize() > 0)
-    {
-      const double* r = gray->GetRange();
-      const auto span = tabulate(r[0], r[1], tf.colorX);
-      std::vector<float> v(kNodes);
-      gray->GetTable(span.first, span.second, kNodes, v.data());
-      tf.colorY.resize(kNodes);
-      for (std::size_t i = 0; i < std::size_t(kNodes); ++i)
-      {
-        tf.colorY[i] = whitted::Color(v[i]);
       }
     }
   }
@@ -341,7 +349,7 @@ void vtkWhittedVolumeConverter::FreeUnused()
 
 //------------------------------------------------------------------------------
 vtkWhittedVolumeConverter::Verdict vtkWhittedVolumeConverter::Convert(
-  vtkVolume* volume, vtkWhittedWarnings& warnings)
+  vtkVolume* volume, vtkWhittedWarnings& warnings, int& converted, int& transferUpdates)
 {
   Entry& e = this->Entries[volume];
   e.Used = true;
@@ -386,13 +394,20 @@ vtkWhittedVolumeConverter::Verdict vtkWhittedVolumeConverter::Convert(
   {
     array->GetRange(e.Range, 0);
   }
-  const bool newTransfer = newData || e.TransferTime != p->GetMTime();
+  // The transfer functions' own times, not the property's (VTK's mappers touch the property when
+  // they draw it)
+  const bool gray = p->GetColorChannels(0) == 1;
+  const std::array<double, 4> transferKey = { double(gray ? MTimeOf(p->GetGrayTransferFunction(0))
+                                                         : MTimeOf(p->GetRGBTransferFunction(0))),
+    double(gray), double(MTimeOf(p->GetScalarOpacity(0))), p->GetScalarOpacityUnitDistance(0) };
+  const bool newTransfer = newData || e.TransferKey != transferKey;
 
   if (newData || newGeometry)
   {
     whitted::Volume v;
     if (newData)
     {
+      ++converted;
       v.grid = Grid(image, array, matrix);
       std::size_t invalid = 0;
       for (float s : v.grid.scalars)
@@ -417,6 +432,9 @@ vtkWhittedVolumeConverter::Verdict vtkWhittedVolumeConverter::Convert(
     v.interpolation =
       geometry[17] == 0.0 ? whitted::VolumeInterpolation::Nearest : whitted::VolumeInterpolation::Linear;
     v.sampleDistance = geometry[16];
+    // VTK's GPU mapper marches with unit steps of the dataset's space (before the volume matrix)
+    // times the sample distance, and corrects opacity by sample / unit distance there
+    v.lengthMetric = glm::inverse(Mat3(matrix));
     if (e.InScene)
     {
       this->Scene.setVolume(e.Id, std::move(v));
@@ -429,12 +447,13 @@ vtkWhittedVolumeConverter::Verdict vtkWhittedVolumeConverter::Convert(
   }
   else if (newTransfer)
   {
+    ++transferUpdates;
     this->Scene.setVolumeTransfer(e.Id, Transfer(p, e.Range));
   }
   e.Image = image;
   e.Array = array;
   e.DataTime = dataTime;
-  e.TransferTime = p->GetMTime();
+  e.TransferKey = transferKey;
   std::copy(geometry, geometry + 18, e.Geometry);
 
   // What the core found at the last commit (a grid it could not trace)

@@ -24,6 +24,7 @@
 
 #include "vtkType.h" // for vtkMTimeType
 
+#include <array>   // for std::array
 #include <cstdint> // for uint32_t
 #include <map>     // for std::map
 
@@ -54,8 +55,10 @@ public:
   };
 
   void BeginFrame();
-  /// Converts (or updates) one visible vtkVolume; warnings through warnings.
-  Verdict Convert(vtkVolume* volume, vtkWhittedWarnings& warnings);
+  /// Converts (or updates) one visible vtkVolume; warnings through warnings. Counts grids
+  /// converted and transfer-only updates.
+  Verdict Convert(
+    vtkVolume* volume, vtkWhittedWarnings& warnings, int& converted, int& transferUpdates);
   /// Removes the scene volumes of vtkVolumes not converted since BeginFrame.
   void FreeUnused();
   void Clear() { this->Entries.clear(); }
@@ -79,7 +82,8 @@ private:
     vtkImageData* Image = nullptr;
     vtkDataArray* Array = nullptr;
     vtkMTimeType DataTime = 0;     ///< Max of the image's and the array's MTime at conversion.
-    vtkMTimeType TransferTime = 0; ///< The volume property's MTime at the last transfer update.
+    /// The transfer functions' MTimes and the unit distance at the last transfer update.
+    std::array<double, 4> TransferKey = { -1.0, -1.0, -1.0, -1.0 };
     double Range[2] = { 0.0, 0.0 };
     double Geometry[16 + 2] = {}; ///< Volume matrix, step, interpolation of the scene volume.
   };

@@ -2,8 +2,12 @@
 // march). Independent references only:
 //  1. Agreement with VTK's own vtkGPUVolumeRayCastMapper (the same scene drawn without the pass, at
 //     the same sample distance; shadows, reflections, refractions off): MAE over covered pixels
-//     <= 3/255, for a soft blob alone and for the blob with an opaque (ambient-only) sphere inside.
+//     <= 1/255 (issue 29 asks 3/255; measured at most 0.17/255), for a soft blob alone and for the
+//     blob with an opaque (ambient-only) sphere inside.
 //     The volume must be traced (no OpenGL prop left): OpenGL drawing it would agree trivially.
+//     Then edits, each against VTK again: a transfer-function edit (no grid conversion, one
+//     transfer update), new scalars (one conversion), the volume moved / rotated / scaled, an image
+//     direction matrix.
 //  2. A 45-degree mirror shows the volume: under a parallel camera, the mirror's pixel (i, j) equals
 //     pixel (W-1-i, j) of the volume seen directly along the reflected direction (no mirror):
 //     MAE <= 1/255 over covered pixels, and the mirror must show the volume (covered pixels).
@@ -149,7 +153,35 @@ bool Check(bool ok, const char* what)
 }
 
 //------------------------------------------------------------------------------
-// 1. Traced against vtkGPUVolumeRayCastMapper
+// 1. Traced against vtkGPUVolumeRayCastMapper: the pass's image and VTK's (the same renderer
+// without the pass); MAE over covered pixels
+double TracedVsRaster(vtkRenderWindow* win, vtkRenderer* ren, vtkWhittedPass* pass, int& covered,
+  int& openGL, int& bad)
+{
+  ren->SetPass(pass);
+  win->Render();
+  const std::vector<unsigned char> traced = GrabPixels(win);
+  openGL = pass->GetLastFrameStatistics()->GetNumberOfOpenGLProps();
+  bad = NonFiniteValues(pass);
+  ren->SetPass(nullptr);
+  win->Render();
+  const std::vector<unsigned char> raster = GrabPixels(win);
+  const unsigned char bg[3] = { 26, 26, 38 };
+  return CoveredMAE(traced, raster, bg, covered);
+}
+
+bool CheckAgreement(const char* name, vtkRenderWindow* win, vtkRenderer* ren, vtkWhittedPass* pass)
+{
+  int covered = 0, openGL = 0, bad = 0;
+  const double mae = TracedVsRaster(win, ren, pass, covered, openGL, bad);
+  std::printf("agreement (%s): covered %d pixels, MAE %.3f/255 (limit 1; issue 29: 3), OpenGL props %d, "
+              "non-finite %d\n",
+    name, covered, mae, openGL, bad);
+  return Check(openGL == 0, "the volume is traced, not drawn by OpenGL") &&
+    Check(covered > 3000, "the volume covers pixels") && Check(mae <= 1.0, "MAE <= 1/255") &&
+    Check(bad == 0, "no NaN or infinite value");
+}
+
 bool Agreement(bool withSphere)
 {
   auto win = MakeWindow(240, 200);
@@ -170,23 +202,62 @@ bool Agreement(bool withSphere)
   }
   LookAt(ren, { 0.6, 0.8, 3.2 }, { 0.0, 0.0, 0.0 }, 40);
   auto pass = MakePass();
+  return CheckAgreement(withSphere ? "sphere inside" : "blob", win, ren, pass);
+}
+
+// Edits between frames, each against VTK's image again: a transfer-function edit (no grid
+// conversion), new scalars (converted again), the volume moved, rotated and scaled with an image
+// direction matrix (world placement; the grid copied, not converted)
+bool Edits()
+{
+  auto win = MakeWindow(240, 200);
+  vtkNew<vtkRenderer> ren;
+  win->AddRenderer(ren);
+  ren->SetBackground(0.1, 0.1, 0.15);
+  const double c[3] = { 0.0, 0.0, 0.0 };
+  auto img = Blob(41, 0.05, c);
+  auto volume = MakeVolume(img, 0.025);
+  ren->AddVolume(volume);
+  LookAt(ren, { 0.6, 0.8, 3.2 }, { 0.0, 0.0, 0.0 }, 40);
+  auto pass = MakePass();
+  vtkWhittedFrameStatistics* st = pass->GetLastFrameStatistics();
+  auto counts = [&](const char* what, int converted, int transfers)
+  {
+    std::printf("  %s: %d converted, %d transfer updates (expected %d, %d)\n", what,
+      st->GetNumberOfVolumesConverted(), st->GetNumberOfVolumeTransferUpdates(), converted, transfers);
+    return Check(st->GetNumberOfVolumesConverted() == converted &&
+        st->GetNumberOfVolumeTransferUpdates() == transfers,
+      "volume grids converted / transfer updates as expected");
+  };
+  bool ok = CheckAgreement("first frame", win, ren, pass) && counts("first frame", 1, 0);
   ren->SetPass(pass);
   win->Render();
-  const std::vector<unsigned char> traced = GrabPixels(win);
-  const int openGL = pass->GetLastFrameStatistics()->GetNumberOfOpenGLProps();
-  const int bad = NonFiniteValues(pass);
-  ren->SetPass(nullptr);
-  win->Render();
-  const std::vector<unsigned char> raster = GrabPixels(win);
-  const unsigned char bg[3] = { 26, 26, 38 };
-  int covered = 0;
-  const double mae = CoveredMAE(traced, raster, bg, covered);
-  std::printf("agreement%s: covered %d pixels, MAE %.3f/255 (limit 3), OpenGL props %d, "
-              "non-finite %d\n",
-    withSphere ? " (sphere inside)" : "", covered, mae, openGL, bad);
-  return Check(openGL == 0, "the volume is traced, not drawn by OpenGL") &&
-    Check(covered > 3000, "the volume covers pixels") && Check(mae <= 3.0, "MAE <= 3/255") &&
-    Check(bad == 0, "no NaN or infinite value");
+  ok = counts("unchanged", 0, 0) && ok;
+  volume->GetProperty()->GetRGBTransferFunction(0)->AddRGBPoint(0.5, 0.2, 0.9, 0.2);
+  volume->GetProperty()->GetScalarOpacity(0)->AddPoint(0.6, 0.05);
+  ok = CheckAgreement("transfer edit", win, ren, pass) && counts("transfer edit", 0, 1) && ok;
+  auto* s = static_cast<float*>(img->GetScalarPointer());
+  for (vtkIdType i = 0; i < img->GetNumberOfPoints(); ++i)
+  {
+    s[i] = std::sqrt(s[i]);
+  }
+  img->Modified();
+  ok = CheckAgreement("new scalars", win, ren, pass) && counts("new scalars", 1, 0) && ok;
+  volume->SetPosition(0.2, -0.1, 0.1);
+  volume->SetOrientation(20.0, 35.0, 0.0);
+  volume->SetScale(1.0, 0.7, 1.2);
+  ok = CheckAgreement("moved, rotated, scaled", win, ren, pass) && counts("moved", 0, 0) && ok;
+  // Made lopsided along the index x axis (else a turn of the round blob would look the same)
+  const int n = img->GetDimensions()[0];
+  for (vtkIdType i = 0; i < img->GetNumberOfPoints(); ++i)
+  {
+    s[i] *= static_cast<float>(0.2 + 0.8 * double(i % n) / (n - 1));
+  }
+  img->SetDirectionMatrix(0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0); // 90 degrees about z
+  img->SetOrigin(1.0, -1.0, -1.0); // the blob stays centred
+  img->Modified();
+  ok = CheckAgreement("image direction matrix", win, ren, pass) && ok;
+  return ok;
 }
 
 //------------------------------------------------------------------------------
@@ -412,6 +483,7 @@ int TestWhittedVolume(int, char*[])
 {
   bool ok = Agreement(false);
   ok = Agreement(true) && ok;
+  ok = Edits() && ok;
   ok = Mirror() && ok;
   ok = SlabShadow() && ok;
   ok = BadInput(
