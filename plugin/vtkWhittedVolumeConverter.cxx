@@ -7,14 +7,18 @@
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
 #include "vtkFixedPointVolumeRayCastMapper.h"
+#include "vtkDataObjectTree.h"
+#include "vtkDataObjectTreeIterator.h"
 #include "vtkGPUVolumeRayCastMapper.h"
 #include "vtkImageData.h"
 #include "vtkMatrix3x3.h"
 #include "vtkMatrix4x4.h"
+#include "vtkMultiBlockVolumeMapper.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPlaneCollection.h"
 #include "vtkSmartVolumeMapper.h"
 #include "vtkVolume.h"
+#include "vtkSmartPointer.h"
 #include "vtkVolumeProperty.h"
 
 #include "scene/scene.h"
@@ -67,12 +71,14 @@ std::string Unsupported(vtkVolume* volume, vtkImageData*& image, vtkDataArray*& 
   image = nullptr;
   array = nullptr;
   auto* mapper = vtkVolumeMapper::SafeDownCast(volume->GetMapper());
+  auto* multiBlock = vtkMultiBlockVolumeMapper::SafeDownCast(mapper);
   if (!mapper ||
     !(vtkSmartVolumeMapper::SafeDownCast(mapper) || vtkGPUVolumeRayCastMapper::SafeDownCast(mapper) ||
-      vtkFixedPointVolumeRayCastMapper::SafeDownCast(mapper)))
+      vtkFixedPointVolumeRayCastMapper::SafeDownCast(mapper) || multiBlock))
   {
     return std::string("mapper ") + (volume->GetMapper() ? volume->GetMapper()->GetClassName() : "none") +
-      " (traced: vtkSmartVolumeMapper, vtkGPUVolumeRayCastMapper, vtkFixedPointVolumeRayCastMapper)";
+      " (traced: vtkSmartVolumeMapper, vtkGPUVolumeRayCastMapper, vtkFixedPointVolumeRayCastMapper, "
+      "vtkMultiBlockVolumeMapper of one block)";
   }
   if (mapper->GetBlendMode() != vtkVolumeMapper::COMPOSITE_BLEND)
   {
@@ -100,7 +106,24 @@ std::string Unsupported(vtkVolume* volume, vtkImageData*& image, vtkDataArray*& 
     return "gradient opacity";
   }
   mapper->Update();
-  image = vtkImageData::SafeDownCast(mapper->GetDataSetInput());
+  vtkDataObject* input = mapper->GetInputDataObject(0, 0);
+  image = vtkImageData::SafeDownCast(input);
+  if (auto* tree = multiBlock ? vtkDataObjectTree::SafeDownCast(input) : nullptr)
+  {
+    // ParaView's Volume representation: one block (per rank) of image data
+    int leaves = 0;
+    vtkSmartPointer<vtkDataObjectTreeIterator> it;
+    it.TakeReference(tree->NewTreeIterator());
+    it->SkipEmptyNodesOff();
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      image = leaves++ == 0 ? vtkImageData::SafeDownCast(it->GetCurrentDataObject()) : nullptr;
+    }
+    if (leaves > 1)
+    {
+      return "a composite input of " + std::to_string(leaves) + " blocks (one is traced)";
+    }
+  }
   if (!image)
   {
     return "input not vtkImageData";
@@ -206,9 +229,12 @@ whitted::VolumeGrid Grid(vtkImageData* image, vtkDataArray* array, const Mat4& m
       dir[c][r] = d[3 * r + c];
     }
   }
-  const double* o = image->GetOrigin();
+  // The grid's first point: index (extent minimum), not the origin (index 0)
+  const int* extent = image->GetExtent();
   const double* s = image->GetSpacing();
-  g.origin = Vec3(matrix * whitted::Vec4(o[0], o[1], o[2], 1.0));
+  const Vec3 first = Vec3(image->GetOrigin()[0], image->GetOrigin()[1], image->GetOrigin()[2]) +
+    dir * Vec3(s[0] * extent[0], s[1] * extent[2], s[2] * extent[4]);
+  g.origin = Vec3(matrix * whitted::Vec4(first, 1.0));
   g.direction = linear * dir;
   g.spacing = Vec3(s[0], s[1], s[2]);
   return g;
@@ -310,6 +336,7 @@ double vtkWhittedVolumeConverter::SampleStep(vtkVolume* volume, vtkImageData* im
   {
     return fixed->GetSampleDistance();
   }
+  // vtkMultiBlockVolumeMapper: vtkSmartVolumeMappers with their defaults (SampleDistance -1)
   return voxel;
 }
 

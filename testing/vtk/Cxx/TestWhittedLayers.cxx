@@ -1,7 +1,7 @@
 // Depth composition with OpenGL geometry. Layer 0 (the pass): a traced floor, mirror and sphere,
 // plus props the tracer leaves to OpenGL in the same renderer: an image slice cutting through the
-// sphere, a volume drawn by a mapper the tracer does not take (vtkMultiBlockVolumeMapper; volumes of
-// vtkSmartVolumeMapper & co are traced: TestWhittedVolume), and a wireframe actor. Layer 1 (plain OpenGL, PreserveDepthBuffer on, same
+// sphere, a volume the tracer does not take (vtkMultiBlockVolumeMapper of two blocks, one empty;
+// traced volumes: TestWhittedVolume), and a wireframe actor. Layer 1 (plain OpenGL, PreserveDepthBuffer on, same
 // camera): a cone that pierces the traced sphere. Everything must occlude correctly by depth.
 #include "WhittedTestUtilities.h"
 
@@ -101,6 +101,7 @@ int TestWhittedLayers(int argc, char* argv[])
   const double o2[3] = { -2.0, 0.1, 0.9 };
   vtkNew<vtkMultiBlockDataSet> blocks;
   blocks->SetBlock(0, Blob(24, 0.04, o2));
+  blocks->SetBlock(1, nullptr); // two blocks: the tracer takes one-block inputs only
   vtkNew<vtkMultiBlockVolumeMapper> volumeMapper;
   volumeMapper->SetInputDataObject(blocks);
   vtkNew<vtkColorTransferFunction> ctf;

@@ -35,13 +35,13 @@ namespace
 using namespace whittedtest;
 
 // A soft blob: scalar 1 - |p - c| / r (clamped at 0) on an n^3 float grid of the given spacing
-// centred on c
-vtkSmartPointer<vtkImageData> Blob(int n, double spacing, const double c[3])
+// centred on c; point indices from first (an extent not starting at 0 puts the origin elsewhere)
+vtkSmartPointer<vtkImageData> Blob(int n, double spacing, const double c[3], int first = 0)
 {
   auto img = vtkSmartPointer<vtkImageData>::New();
-  img->SetDimensions(n, n, n);
+  img->SetExtent(first, first + n - 1, first, first + n - 1, first, first + n - 1);
   img->SetSpacing(spacing, spacing, spacing);
-  const double half = 0.5 * spacing * (n - 1);
+  const double half = 0.5 * spacing * (n - 1) + spacing * first;
   img->SetOrigin(c[0] - half, c[1] - half, c[2] - half);
   img->AllocateScalars(VTK_FLOAT, 1);
   auto* s = static_cast<float*>(img->GetScalarPointer());
@@ -257,6 +257,10 @@ bool Edits()
   img->SetOrigin(1.0, -1.0, -1.0); // the blob stays centred
   img->Modified();
   ok = CheckAgreement("image direction matrix", win, ren, pass) && ok;
+  // A new input whose extent starts at -20 (as vtkRTAnalyticSource's): its origin is not its first point
+  const double c2[3] = { 0.1, 0.2, 0.0 };
+  vtkVolumeMapper::SafeDownCast(volume->GetMapper())->SetInputData(Blob(41, 0.05, c2, -20));
+  ok = CheckAgreement("extent from -20", win, ren, pass) && counts("new input", 1, 0) && ok;
   return ok;
 }
 
