@@ -17,6 +17,7 @@
 //  4. Bad input (NaN scalars, zero spacing, a single point along an axis, an empty image): one
 //     warning naming the problem, the rest of the scene as without the volume (within 1/255; NaN
 //     scalars are traced as transparent), no NaN or infinite value in the frame, no error.
+//  5. MIP blend, gradient opacity, Shade: left to OpenGL with one warning naming the setting.
 #include "WhittedTestUtilities.h"
 
 #include "vtkColorTransferFunction.h"
@@ -481,6 +482,29 @@ bool BadInput(const char* name, const std::function<void(vtkImageData*)>& spoil,
   }
   return ok;
 }
+// 5. Settings the tracer does not trace keep VTK's OpenGL drawing, with one warning naming them
+bool Fallback(const char* name, const std::function<void(vtkVolume*)>& set, const char* expect)
+{
+  auto win = MakeWindow(160, 120);
+  vtkNew<vtkRenderer> ren;
+  win->AddRenderer(ren);
+  const double c[3] = { 0.0, 0.0, 0.0 };
+  auto volume = MakeVolume(Blob(9, 0.12, c));
+  set(volume);
+  ren->AddVolume(volume);
+  LookAt(ren, { 0.0, 0.5, 4.0 }, { 0.0, 0.0, 0.0 }, 40);
+  auto pass = MakePass();
+  MessageLog log;
+  log.Observe(pass);
+  ren->SetPass(pass);
+  win->Render();
+  win->Render();
+  const int openGL = pass->GetLastFrameStatistics()->GetNumberOfOpenGLProps();
+  const bool named = log.Warnings.size() == 1 && log.Warnings[0].find(expect) != std::string::npos;
+  std::printf("fallback %s: OpenGL props %d, warnings %zu%s", name, openGL, log.Warnings.size(),
+    log.Warnings.empty() ? "\n" : (": " + log.Warnings[0]).c_str());
+  return Check(openGL == 1 && named, "drawn by OpenGL, one warning naming the setting");
+}
 } // namespace
 
 int TestWhittedVolume(int, char*[])
@@ -519,5 +543,23 @@ int TestWhittedVolume(int, char*[])
   ok = BadInput(
          "empty image", [](vtkImageData* img) { img->Initialize(); }, "empty image", false) &&
     ok;
+  ok = Fallback(
+         "MIP", [](vtkVolume* v)
+         { vtkVolumeMapper::SafeDownCast(v->GetMapper())->SetBlendModeToMaximumIntensity(); },
+         "blend mode") &&
+    ok;
+  ok = Fallback(
+         "gradient opacity",
+         [](vtkVolume* v)
+         {
+           vtkNew<vtkPiecewiseFunction> g;
+           g->AddPoint(0.0, 0.0);
+           g->AddPoint(1.0, 1.0);
+           v->GetProperty()->SetGradientOpacity(g);
+         },
+         "gradient opacity") &&
+    ok;
+  ok = Fallback(
+         "Shade", [](vtkVolume* v) { v->GetProperty()->ShadeOn(); }, "Shade on") && ok;
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }
