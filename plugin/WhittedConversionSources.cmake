@@ -15,6 +15,7 @@ set(whitted_conversion_sources
   vtkWhittedPolyDataColors.cxx     #   the mapper's colours per point or cell
   vtkWhittedGlyphConverter.cxx     # vtkGlyph3DMapper -> one instance per glyph
   vtkWhittedGlyphPlacement.cxx     # where VTK places each glyph of a vtkGlyph3DMapper
+  vtkWhittedVolumeConverter.cxx    # vtkVolume (image data, ray-cast mappers) -> scene volumes
   vtkWhittedTextureCache.cxx       # vtkTexture -> scene textures
   vtkWhittedMaterialKeys.cxx       # the Whitted information keys (public header: module/CMakeLists.txt)
   vtkWhittedMaterials.cxx          # vtkProperty + Whitted keys -> material
@@ -32,6 +33,7 @@ set(whitted_conversion_headers
   vtkWhittedPolyDataPrimitives.h
   vtkWhittedGlyphConverter.h
   vtkWhittedGlyphPlacement.h
+  vtkWhittedVolumeConverter.h
   vtkWhittedTextureCache.h
   vtkWhittedMaterials.h
   vtkWhittedLights.h

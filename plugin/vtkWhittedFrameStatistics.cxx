@@ -21,6 +21,8 @@ void vtkWhittedFrameStatistics::Reset()
   this->NumberOfGeometriesConverted = this->NumberOfObjectsRebuilt = this->NumberOfObjectsRefit = 0;
   this->TopLevelRebuilt = false;
   this->NumberOfTracedActors = this->NumberOfOpenGLProps = 0;
+  this->NumberOfTracedVolumes = this->NumberOfVolumesConverted = 0;
+  this->NumberOfVolumeTransferUpdates = 0;
   this->NumberOfRefitsRejected = this->NumberOfTimeCacheHits = this->NumberOfTimeCacheEntries = 0;
   this->RefitCostRatio = 0.0;
   this->TimeCacheBytes = 0;
@@ -76,6 +78,9 @@ void vtkWhittedFrameStatistics::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CompositeCPUTime: " << this->CompositeCPUTime << "\n";
   os << indent << "TopLevelRebuilt: " << this->TopLevelRebuilt << "\n";
   os << indent << "NumberOfTracedActors: " << this->NumberOfTracedActors << "\n";
+  os << indent << "NumberOfTracedVolumes: " << this->NumberOfTracedVolumes << "\n";
+  os << indent << "NumberOfVolumesConverted: " << this->NumberOfVolumesConverted << "\n";
+  os << indent << "NumberOfVolumeTransferUpdates: " << this->NumberOfVolumeTransferUpdates << "\n";
   os << indent << "NumberOfOpenGLProps: " << this->NumberOfOpenGLProps << "\n";
   os << indent << "NumberOfRefitsRejected: " << this->NumberOfRefitsRejected << "\n";
   os << indent << "RefitCostRatio: " << this->RefitCostRatio << "\n";

@@ -121,6 +121,17 @@ public:
 
   ///@{
   /**
+   * Volumes (vtkVolume): how many were traced (or left undrawn for bad input), how many had their
+   * scalars converted in this frame (new or changed image data), how many only had their transfer
+   * functions updated (a colour or opacity edit: the converted grid is kept).
+   */
+  vtkGetMacro(NumberOfTracedVolumes, int);
+  vtkGetMacro(NumberOfVolumesConverted, int);
+  vtkGetMacro(NumberOfVolumeTransferUpdates, int);
+  ///@}
+
+  ///@{
+  /**
    * Time series: refits whose tree would trace too slowly (its SAH cost grew beyond 1.4 times the
    * cost of the tree when built: rebuilt instead, and counted in NumberOfObjectsRebuilt), the
    * largest SAH cost ratio (refitted tree / built tree) of this frame's refits (0 without
@@ -242,6 +253,9 @@ protected:
   int NumberOfObjectsRefit = 0;
   bool TopLevelRebuilt = false;
   int NumberOfTracedActors = 0;
+  int NumberOfTracedVolumes = 0;
+  int NumberOfVolumesConverted = 0;
+  int NumberOfVolumeTransferUpdates = 0;
   int NumberOfOpenGLProps = 0;
   int NumberOfRefitsRejected = 0;
   double RefitCostRatio = 0.0;

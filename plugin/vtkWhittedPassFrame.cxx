@@ -326,7 +326,7 @@ int vtkWhittedPassInternals::Composite(const vtkRenderState* s, vtkOpenGLRenderW
   // The tracer's image is premultiplied RGBA at every sample count: drawn as it is, over the
   // environment props (skybox) that OpenGL draws first
   vtkRenderer* ren = s->GetRenderer();
-  int rendered = conv.TracedActors;
+  int rendered = conv.TracedActors + conv.TracedVolumes;
   if (!conv.BackgroundProps.empty())
   {
     vtkRenderState bgState(ren);

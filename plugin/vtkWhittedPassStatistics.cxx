@@ -58,6 +58,9 @@ void vtkWhittedPassInternals::RecordStatistics(
   st->TimeCacheBytes = r.Conversion.TimeCacheBytes;
   st->TopLevelRebuilt = r.Commit.topLevelRebuilt;
   st->NumberOfTracedActors = r.Conversion.TracedActors;
+  st->NumberOfTracedVolumes = r.Conversion.TracedVolumes;
+  st->NumberOfVolumesConverted = r.Conversion.VolumesConverted;
+  st->NumberOfVolumeTransferUpdates = r.Conversion.VolumeTransferUpdates;
   st->NumberOfOpenGLProps = static_cast<int>(r.Conversion.OpenGLProps.size());
   st->NumberOfSafetyNetCatches = rays.safetyNetCatches();
   st->Aborted = r.Trace.aborted;
@@ -85,9 +88,10 @@ void vtkWhittedPassInternals::RecordStatistics(
   char line[256];
   std::snprintf(line, sizeof line,
     "  vtk              composite %.2f ms, total %.2f ms; %d actors traced (%d geometries "
-    "converted), %d props drawn by OpenGL\n",
+    "converted), %d volumes traced (%d converted, %d transfer updates), %d props drawn by OpenGL\n",
     r.CompositeTime * 1e3, totalTime * 1e3, r.Conversion.TracedActors,
-    r.Conversion.GeometriesConverted, st->NumberOfOpenGLProps);
+    r.Conversion.GeometriesConverted, r.Conversion.TracedVolumes, r.Conversion.VolumesConverted,
+    r.Conversion.VolumeTransferUpdates, st->NumberOfOpenGLProps);
   report += line;
   std::snprintf(line, sizeof line,
     "  CPU time         conversion %.2f ms, build %.2f ms, trace %.2f ms, composite %.2f ms "

@@ -10,6 +10,7 @@
 #include "vtkWhittedMaterials.h"
 #include "vtkWhittedMatrix.h"
 #include "vtkWhittedTextureCache.h"
+#include "vtkWhittedVolumeConverter.h"
 #include "vtkWhittedWarnings.h"
 
 #include "vtkActor.h"
@@ -30,6 +31,7 @@
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
 #include "vtkSkybox.h"
+#include "vtkVolume.h"
 
 #include "scene/scene.h"
 
@@ -134,6 +136,7 @@ struct vtkWhittedSceneConverter::Internals
   vtkWhittedInstanceSlots Slots{ Scene };
   vtkWhittedWarnings Warnings;
   vtkWhittedGlyphConverter Glyphs{ Scene, Geometries, Textures, Slots, Warnings };
+  vtkWhittedVolumeConverter Volumes{ Scene };
   bool LightsOn = true;
   bool BrightestLightShadowsOnly = false; // vtkWhittedPass ShadowsFromBrightestLightOnly
 
@@ -144,6 +147,7 @@ struct vtkWhittedSceneConverter::Internals
     this->Geometries.Clear();
     this->Slots.Clear();
     this->Glyphs.Clear();
+    this->Volumes.Clear();
   }
 
   //----------------------------------------------------------------------------
@@ -474,6 +478,7 @@ void vtkWhittedSceneConverter::Update(
   in.Geometries.BeginFrame();
   in.Slots.BeginFrame();
   in.Glyphs.BeginFrame();
+  in.Volumes.BeginFrame();
 
   // Lights
   const vtkWhittedLights::Summary lights = vtkWhittedLights::Convert(ren, in.Scene.lights(), in.BrightestLightShadowsOnly);
@@ -483,6 +488,22 @@ void vtkWhittedSceneConverter::Update(
   // What to trace; of the render state's props, those the tracer does not draw go to OpenGL
   vtkSkybox* skybox = nullptr;
   const std::vector<Leaf> leaves = in.CollectLeaves(ren, skybox);
+  // Volumes: every visible one of the renderer (also those culled from the render state)
+  std::unordered_set<vtkProp*> volumesNotForOpenGL;
+  vtkPropCollection* viewProps = ren->GetViewProps();
+  vtkCollectionSimpleIterator vit;
+  viewProps->InitTraversal(vit);
+  while (vtkProp* prop = viewProps->GetNextProp(vit))
+  {
+    auto* volume = vtkVolume::SafeDownCast(prop);
+    if (volume && volume->GetVisibility() &&
+      in.Volumes.Convert(volume, in.Warnings, result.VolumesConverted,
+        result.VolumeTransferUpdates) != vtkWhittedVolumeConverter::OpenGL)
+    {
+      volumesNotForOpenGL.insert(volume);
+      ++result.TracedVolumes;
+    }
+  }
   for (int i = 0; i < count; ++i)
   {
     vtkProp* prop = props[i];
@@ -491,7 +512,8 @@ void vtkWhittedSceneConverter::Update(
     {
       result.BackgroundProps.push_back(prop); // drawn by OpenGL behind the traced image
     }
-    else if (prop && !vtkAssembly::SafeDownCast(prop) && !(actor && IsTraceable(actor)))
+    else if (prop && !vtkAssembly::SafeDownCast(prop) && !(actor && IsTraceable(actor)) &&
+      !volumesNotForOpenGL.count(prop))
     {
       result.OpenGLProps.push_back(prop);
     }
@@ -518,6 +540,7 @@ void vtkWhittedSceneConverter::Update(
   // Retire what this frame did not use
   in.Slots.FreeUnused();
   in.Glyphs.FreeUnused();
+  in.Volumes.FreeUnused();
   in.Geometries.FreeUnused();
   in.Textures.FreeUnused();
   const vtkWhittedGeometryCache::TimeCacheCounts kept = in.Geometries.GetTimeCacheCounts();

@@ -28,8 +28,10 @@
  * Each traced actor (or block) is an instance of its geometry's objects with the actor's matrix;
  * moving an actor changes only the instance transform (the top-level BVH, never an object BVH).
  * Props the tracer does not handle are returned so that the pass can draw them with VTK's OpenGL
- * path: 2D actors, volumes, image slices, actors whose mapper is not a vtkPolyDataMapper, and
- * actors drawn as plain points, lines or wireframe (no RenderPointsAsSpheres / RenderLinesAsTubes).
+ * path: 2D actors, volumes the tracer does not take (vtkWhittedVolumeConverter), image slices,
+ * actors whose mapper is not a vtkPolyDataMapper, and actors drawn as plain points, lines or
+ * wireframe (no RenderPointsAsSpheres / RenderLinesAsTubes). Traced volumes:
+ * vtkWhittedVolumeConverter.
  */
 
 #ifndef vtkWhittedSceneConverter_h
@@ -68,6 +70,9 @@ public:
     int TimeCacheEntries = 0;       ///< Geometries the time cache holds after it.
     std::size_t TimeCacheBytes = 0; ///< Their memory, bytes.
     int TracedActors = 0;           ///< Leaf actors that became instances.
+    int TracedVolumes = 0;          ///< Volumes traced (or not drawn for bad input).
+    int VolumesConverted = 0;       ///< Volume grids converted (new or changed image data).
+    int VolumeTransferUpdates = 0;  ///< Volumes whose transfer functions alone were updated.
     bool HeadlightShading = false;  ///< VTK light complexity 1 (one headlight) applies.
   };
 

@@ -19,7 +19,7 @@ void vtkWhittedWarnings::WarnOnce(vtkProp* prop, uint32_t warning, const std::st
   if (this->Warned.insert(std::make_pair(prop, warning)).second)
   {
     vtkWarningWithObjectMacro(
-      this->Owner, << "Actor " << prop << " (" << prop->GetClassName() << "): " << message);
+      this->Owner, << (prop->IsA("vtkVolume") ? "Volume " : "Actor ") << prop << " (" << prop->GetClassName() << "): " << message);
   }
 }
 
@@ -92,6 +92,28 @@ void vtkWhittedWarnings::WarnGlyphArrays(vtkProp* actor, int problem)
     std::string(what[problem]) + ": as in VTK, " +
       (problem == vtkWhittedGlyphPlacement::ScaleComponents ? "glyphs are not scaled"
                                                             : "no glyph is drawn"));
+}
+
+//------------------------------------------------------------------------------
+void vtkWhittedWarnings::WarnVolume(vtkProp* volume, Warning warning, const std::string& what)
+{
+  switch (warning)
+  {
+    case VolumeOpenGL:
+      this->WarnOnce(volume, warning,
+        "volume not ray traced (" + what +
+          "): drawn by VTK's OpenGL volume mapper over the traced image, so it is absent from "
+          "mirrors and glass, casts no shadow and composites with surfaces by depth only");
+      break;
+    case VolumeSkipped:
+      this->WarnOnce(volume, warning, "volume not drawn: " + what);
+      break;
+    case VolumeInvalidScalars:
+      this->WarnOnce(volume, warning, what + " scalars are NaN or infinite: traced as transparent");
+      break;
+    default:
+      break;
+  }
 }
 
 //------------------------------------------------------------------------------

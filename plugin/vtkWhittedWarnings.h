@@ -73,7 +73,12 @@ public:
 
     // Glyphs (vtkGlyph3DMapper)
     GlyphSourceTableTree = 1u << 27,
-    GlyphArrays = 1u << 28
+    GlyphArrays = 1u << 28,
+
+    // Volumes (vtkWhittedVolumeConverter)
+    VolumeOpenGL = 1u << 10,         ///< A setting the tracer does not trace: OpenGL draws it.
+    VolumeSkipped = 1u << 29,        ///< Bad input: not drawn.
+    VolumeInvalidScalars = 1u << 30  ///< NaN or infinite scalars: transparent.
   };
 
   /// Object the warnings are printed for (the pass).
@@ -90,6 +95,12 @@ public:
    * being placed or scaled.
    */
   void WarnGlyphArrays(vtkProp* actor, int problem);
+
+  /**
+   * A volume warning (VolumeOpenGL, VolumeSkipped, VolumeInvalidScalars), once per volume; what
+   * names the setting, the bad input, or how many scalars.
+   */
+  void WarnVolume(vtkProp* volume, Warning warning, const std::string& what);
 
   /**
    * The problems found in one converted geometry of actor (drawn with property), each once;

@@ -111,9 +111,13 @@ std::string Volume::prepare(std::size_t& invalidScalars) {
     bounds_.lo = glm::min(bounds_.lo, p);
     bounds_.hi = glm::max(bounds_.hi, p);
   }
+  if (!(isFinite(lengthMetric[0]) && isFinite(lengthMetric[1]) && isFinite(lengthMetric[2]) &&
+        glm::determinant(lengthMetric) != 0.0))
+    return "volume: length metric singular or not finite";
+  const Mat3 measured = lengthMetric * toWorld;  // grid axes, measured
   double shortest = kInfinity;
-  for (int a = 0; a < 3; ++a) shortest = std::min(shortest, glm::length(toWorld[a]));
-  const double diagonal = glm::length(bounds_.hi - bounds_.lo);
+  for (int a = 0; a < 3; ++a) shortest = std::min(shortest, glm::length(measured[a]));
+  const double diagonal = glm::length(measured * Vec3(grid.dims[0] - 1, grid.dims[1] - 1, grid.dims[2] - 1));
   step_ = std::isfinite(sampleDistance) && sampleDistance > 0.0 ? sampleDistance : 0.5 * shortest;
   step_ = std::max(step_, diagonal / kMaxSteps);
   if (!(std::isfinite(step_) && step_ > 0.0)) return "volume: no usable step (grid extent not finite)";
@@ -211,7 +215,7 @@ inline float Volume::sampleIndex(const Vec3& index) const {
 }
 
 void Volume::march(const Ray& ray, double t0, double t1, bool emission, float stopBelow, VolumeMarch& acc) const {
-  const double len = glm::length(ray.dir);
+  const double len = glm::length(lengthMetric * ray.dir);
   if (!(t1 > t0) || !(len > 0.0)) return;
   const Vec3 o = toIndex_ * (ray.origin - grid.origin);
   const Vec3 d = toIndex_ * ray.dir;

@@ -69,9 +69,13 @@ struct Volume {
   VolumeGrid grid;
   TransferFunction transfer;
   VolumeInterpolation interpolation = VolumeInterpolation::Linear;
-  /// Step along rays, world units; 0 (default): half the shortest grid axis spacing (a mapper's usual sample
-  /// distance). At least the grid's diagonal / kMaxSteps.
+  /// Step along rays; 0 (default): half the shortest grid axis spacing (a mapper's usual sample distance). At
+  /// least the grid's diagonal / kMaxSteps. Measured, like unitDistance, with lengthMetric.
   double sampleDistance = 0.0;
+  /// How lengths along a ray are measured for the step and the unit distance: a direction d has length
+  /// |lengthMetric x d|. Identity (default): world units. VTK's GPU mapper measures them in the dataset's space,
+  /// before the vtkVolume's matrix: the VTK converter sets the inverse of that matrix's linear part.
+  Mat3 lengthMetric{1.0};
   bool visible = true;
   static constexpr double kMaxSteps = 20000.0;
 

@@ -1,6 +1,7 @@
 // Depth composition with OpenGL geometry. Layer 0 (the pass): a traced floor, mirror and sphere,
 // plus props the tracer leaves to OpenGL in the same renderer: an image slice cutting through the
-// sphere, a volume, and a wireframe actor. Layer 1 (plain OpenGL, PreserveDepthBuffer on, same
+// sphere, a volume the tracer does not take (vtkMultiBlockVolumeMapper of two blocks, one empty;
+// traced volumes: TestWhittedVolume), and a wireframe actor. Layer 1 (plain OpenGL, PreserveDepthBuffer on, same
 // camera): a cone that pierces the traced sphere. Everything must occlude correctly by depth.
 #include "WhittedTestUtilities.h"
 
@@ -11,10 +12,11 @@
 #include "vtkImageData.h"
 #include "vtkImageMapper3D.h"
 #include "vtkLight.h"
+#include "vtkMultiBlockDataSet.h"
+#include "vtkMultiBlockVolumeMapper.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkRegressionTestImage.h"
-#include "vtkSmartVolumeMapper.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
@@ -97,8 +99,11 @@ int TestWhittedLayers(int argc, char* argv[])
 
   // A volume (a soft blob) at the front left
   const double o2[3] = { -2.0, 0.1, 0.9 };
-  vtkNew<vtkSmartVolumeMapper> volumeMapper;
-  volumeMapper->SetInputData(Blob(24, 0.04, o2));
+  vtkNew<vtkMultiBlockDataSet> blocks;
+  blocks->SetBlock(0, Blob(24, 0.04, o2));
+  blocks->SetBlock(1, nullptr); // two blocks: the tracer takes one-block inputs only
+  vtkNew<vtkMultiBlockVolumeMapper> volumeMapper;
+  volumeMapper->SetInputDataObject(blocks);
   vtkNew<vtkColorTransferFunction> ctf;
   ctf->AddRGBPoint(0, 0.0, 0.0, 0.0);
   ctf->AddRGBPoint(255, 0.2, 1.0, 0.4);
