@@ -11,10 +11,12 @@
 
 #include <emmintrin.h>  // SSE2: part of every x86-64 CPU (Debian 12's baseline)
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace whitted {
@@ -98,6 +100,8 @@ class Bvh {
   /// plane), conservatively for the double ray (BoxRay); the stack carries each entry's distance, so entries
   /// behind a hit found meanwhile are dropped unvisited; fixed-size stack, no allocation, no virtual call; the
   /// callback is inlined.
+  /// A closest-hit walk tests the root box first, before the per-node set-up, so a ray that misses it costs little
+  /// (camera rays past an object); an any-hit walk does not (shadow rays leave a surface in the scene).
   template <bool AnyHit, typename LeafFn>
   bool traverse(const Ray& ray, double& tMax, LeafFn&& leaf, uint64_t* nodesVisited = nullptr,
                 LeafData leafData = {}) const;
@@ -159,6 +163,29 @@ class Bvh {
     return wide_.size() == 1 && root.count[1] == BvhWideNode::kEmpty && root.count[0] != 0 &&
            root.count[0] != BvhWideNode::kEmpty;
   }
+  /// Sets rootPlanes_ from the root node (after a build or refit).
+  void setRootBox() {
+    float lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::numeric_limits<float>::infinity();
+      hi[k] = -std::numeric_limits<float>::infinity();
+    }
+    if (!wide_.empty()) {
+      const BvhWideNode& root = wide_[0];
+      for (int c = 0; c < 4; ++c)
+        if (root.count[c] != BvhWideNode::kEmpty)
+          for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], root.b[k][c]);
+            hi[k] = std::max(hi[k], root.b[3 + k][c]);
+          }
+    }
+    for (int octant = 0; octant < 8; ++octant)
+      for (int k = 0; k < 4; ++k) {
+        const bool negative = k < 3 && (octant >> k & 1);
+        rootPlanes_[octant][0][k] = k == 3 ? 0.0f : negative ? hi[k] : lo[k];
+        rootPlanes_[octant][1][k] = k == 3 ? 0.0f : negative ? lo[k] : hi[k];
+      }
+  }
   void clear() {  // the empty tree
     wide_.clear();
     primIndices_.clear();
@@ -185,6 +212,10 @@ class Bvh {
 
   BvhWideNodes wide_;
   Vec3 anchor_{0.0};  ///< The first finite centroid; node boxes are stored relative to it.
+  /// The root node's box (the union of its children's, anchored floats), as the near and far plane per axis
+  /// (lanes x y z, lane 3 zero) for each octant of direction signs (BoxRayLanes::negative): traverse() tests it
+  /// before its per-node set-up.
+  alignas(16) float rootPlanes_[8][2][4] = {};
   Bounds3 bounds_;
   std::vector<uint32_t> primIndices_;
   int depth_ = 0;
