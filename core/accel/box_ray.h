@@ -193,6 +193,7 @@ struct JointBoxRay {
   /// children together than alone, and keep their own tests. Reciprocals spreading by more than 1/8 of their
   /// magnitude (a point light close to the surface) likewise.
   JointBoxRay(const BoxRay* br, const __m128* tMinV, const __m128* tMaxV, unsigned active, float maxSpread) {
+    if (active == 0) return;  // (no ray: unused)
     const int f = __builtin_ctz(active);
     for (unsigned m = active; m; m &= m - 1) {
       const int i = __builtin_ctz(m);

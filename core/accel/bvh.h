@@ -133,7 +133,8 @@ class Bvh {
   /// Performance note: a node's boxes are loaded once for the packet; while the rays are close (JointBoxRay) one
   /// box test serves all of them for inner children, and each stack entry carries a per-ray entry distance so
   /// entries behind every ray's hit are dropped unvisited; children are visited nearest first by the joint entry
-  /// distance (or the first active ray's).
+  /// distance (or the first active ray's). Rays that miss the root box (traverse()'s test) leave the packet
+  /// before the per-node set-up and the joint test.
   template <typename LeafFn>
   unsigned traverse4(const Ray* rays, unsigned active, double* tMax, LeafFn&& leaf, uint64_t* nodesVisited = nullptr,
                      LeafData leafData = {}) const;
@@ -154,9 +155,13 @@ class Bvh {
   /// active without the rays whose origin or direction is not finite (they visit nothing, as in traverse()).
   static unsigned finiteRays(const Ray* rays, unsigned active);
   /// A packet's per-ray box-test set-up (limits tMax[i], or each ray's tMax without it; lanes of inactive rays are
-  /// 0 in tMaxF) and its joint test.
-  JointBoxRay prepare(const Ray* rays, unsigned active, const double* tMax, BoxRay* br, __m128* tMinV, __m128* tMaxV,
-                      float* tMaxF) const;
+  /// 0 in tMaxF) and its joint test. With testRoot, the rays that miss the root box are taken out of active first.
+  JointBoxRay prepare(const Ray* rays, unsigned& active, const double* tMax, BoxRay* br, __m128* tMinV, __m128* tMaxV,
+                      float* tMaxF, bool testRoot) const;
+  /// Whether a ray with the box-test values l may enter the root box within [t0, t1] (box-test units).
+  bool mayEnterRoot(const BoxRayLanes& l, float t0, float t1) const {
+    return l.mayEnter(_mm_load_ps(rootPlanes_[l.negative][0]), _mm_load_ps(rootPlanes_[l.negative][1]), t0, t1);
+  }
   /// The tree is one leaf: a root with a single leaf child.
   bool isOneLeaf() const {
     const BvhWideNode& root = wide_[0];

@@ -64,8 +64,7 @@ inline bool Bvh::traverse(const Ray& ray, double& tMax, LeafFn&& leaf, uint64_t*
   const BoxRayLanes lanes(ray, anchor_);
   const float tMinF = floatBelow(ray.tMin * lanes.tScale);
   float tMaxF = floatAbove(tMax * lanes.tScale);
-  if (!AnyHit && !lanes.mayEnter(_mm_load_ps(rootPlanes_[lanes.negative][0]), _mm_load_ps(rootPlanes_[lanes.negative][1]), tMinF,
-                     tMaxF)) {
+  if (!AnyHit && !mayEnterRoot(lanes, tMinF, tMaxF)) {
     if (nodesVisited) ++*nodesVisited;  // the root, as its box test counts
     return false;
   }
