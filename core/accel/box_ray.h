@@ -17,45 +17,45 @@
 
 namespace whitted {
 
-namespace box_detail {
-// Lane constants as aligned arrays: loaded by one instruction or used as a memory operand (GCC builds a
-// _mm_set1_ps of a constant with a scalar load and a shuffle)
-alignas(16) inline constexpr float kSignBit[4] = {-0.0f, -0.0f, -0.0f, -0.0f};
-alignas(16) inline constexpr float kFltMax[4] = {3.40282347e38f, 3.40282347e38f, 3.40282347e38f, 3.40282347e38f};
-alignas(16) inline constexpr float kNegFltMax[4] = {-3.40282347e38f, -3.40282347e38f, -3.40282347e38f,
-                                                    -3.40282347e38f};
-alignas(16) inline constexpr float kStepScale[4] = {0x1p-22f, 0x1p-22f, 0x1p-22f, 0x1p-22f};
-alignas(16) inline constexpr float kFltMin[4] = {0x1p-126f, 0x1p-126f, 0x1p-126f, 0x1p-126f};
-alignas(16) inline constexpr float kInf[4] = {__builtin_inff(), __builtin_inff(), __builtin_inff(), __builtin_inff()};
-alignas(16) inline constexpr double kOne2[2] = {1.0, 1.0};
-alignas(16) inline constexpr double kSignBit2[2] = {-0.0, -0.0};
-alignas(16) inline constexpr double kShrink2[2] = {1.0 - 0x1p-19, 1.0 - 0x1p-19};
-alignas(16) inline constexpr double kGrow2[2] = {1.0 + 0x1p-19, 1.0 + 0x1p-19};
-alignas(16) inline constexpr double kFltMax2[2] = {3.40282346638528859811704183484516925440e+38,
-                                                   3.40282346638528859811704183484516925440e+38};
-static_assert(kFltMax[0] == std::numeric_limits<float>::max() && kFltMin[0] == std::numeric_limits<float>::min() &&
-                  kFltMax2[0] == double(std::numeric_limits<float>::max()),
-              "float range constants");
-}  // namespace box_detail
-
-/// A ray's values for the single-precision box tests of one tree, per axis in the lanes x, y, z (lane 3 unused):
-/// origin relative to the tree's anchor and direction scaled by a power of two (so t' = t * tScale exactly), each
-/// rounded so that every computed entry distance is at most, and every exit distance at least, the exact one of the
-/// double-precision ray (Embree's robust mode, extended to a double ray): per axis the origin is rounded up for one
-/// plane and down for the other, and the reciprocal direction toward zero for the near plane and away from zero for
-/// the far plane, by margins that cover the float subtraction's and product's rounding (2^-24 each). Overflow stays
-/// conservative: a near reciprocal saturates at FLT_MAX, a far one may be infinite, and an origin beyond float range
-/// becomes +-FLT_MAX or +-inf on the conservative side. Computed for the three axes at once (SSE2). BoxRay
-/// broadcasts them per axis for the four-box node test; mayEnter() tests one box with them as they are (a tree's
-/// root box, before that set-up is paid).
-struct BoxRayLanes {
-  __m128 nearOrg, farOrg;  ///< Origin rounded for the near / far plane of each axis.
-  __m128 nearInv, farInv;  ///< Reciprocal direction rounded for the near / far plane.
-  int negative = 0;        ///< Bit k: direction component k is negative (-0 included): its near plane is hi.
-  double tScale = 1.0;     ///< Box-test distances are t * tScale.
-  /// False when every origin coordinate is a float (not +-inf): see BoxRay::emptyMayPass.
+/// A ray prepared for the single-precision box tests of one tree: origin relative to the tree's anchor and
+/// direction scaled by a power of two (so t' = t * tScale exactly), each rounded so that every computed entry
+/// distance is at most, and every exit distance at least, the exact one of the double-precision ray (Embree's
+/// robust mode, extended to a double ray): per axis the origin is rounded up for one plane and down for the other,
+/// and the reciprocal direction toward zero for the near plane and away from zero for the far plane, by margins
+/// that cover the float subtraction's and product's rounding (2^-24 each). Overflow stays conservative: a near
+/// reciprocal saturates at FLT_MAX, a far one may be infinite, and an origin beyond float range becomes +-FLT_MAX
+/// or +-inf on the conservative side. A NaN far product (0 * inf: an origin on a face plane of a parallel ray) is
+/// ignored by the slab test, which keeps such a ray (conservative). Computed for the three axes at once (SSE2).
+struct BoxRay {
+  __m128 orgNear[3], orgFar[3], invNear[3], invFar[3];
+  int nearBound[3], farBound[3];  ///< Index into BvhWideNode::b of the near / far plane per axis.
+  /// The same as byte offsets into a BvhWideNode (the single-ray loop adds them to the node's address).
+  std::size_t nearOffset[3], farOffset[3];
+  double tScale = 1.0;  ///< Box-test distances are t * tScale.
+  /// False when every origin coordinate is a float (not +-inf): then an empty child slot (box lo = +inf, hi = -inf)
+  /// never passes the slab test (its near distance is +inf, its far one -inf), and its mask needs no used().
   bool emptyMayPass = true;
-  BoxRayLanes(const Ray& r, const Vec3& anchor) {
+  BoxRay() = default;  ///< Unset (the lanes of a packet's inactive rays).
+  /// Slab test of wide node n's four boxes against [t0, t1] (box-test units): t0 becomes each box's entry distance
+  /// (at most the exact one); returns the mask of the boxes entered (AND it with n.used() when emptyMayPass: empty
+  /// slots may pass then).
+  unsigned enter(const BvhWideNode& n, __m128& t0, __m128 t1) const {
+    const char* node = reinterpret_cast<const char*>(&n);
+    for (int a = 0; a < 3; ++a) {
+      const __m128 lo = _mm_mul_ps(
+          _mm_sub_ps(_mm_load_ps(reinterpret_cast<const float*>(node + nearOffset[a])), orgNear[a]), invNear[a]);
+      const __m128 hi = _mm_mul_ps(
+          _mm_sub_ps(_mm_load_ps(reinterpret_cast<const float*>(node + farOffset[a])), orgFar[a]), invFar[a]);
+      // The far product's NaN (0 * inf: an origin on the far plane of a parallel ray; inf - inf: an infinite
+      // plane and an origin beyond float range) is ignored: min(hi, t1) returns t1 for a NaN hi. A near
+      // product is never NaN for a real box (its lo is never +inf nor its hi -inf, and the rounded origin
+      // never goes past +-FLT_MAX toward them); max(t0, lo) would return a NaN and reject the child.
+      t0 = _mm_max_ps(t0, lo);
+      t1 = _mm_min_ps(hi, t1);
+    }
+    return unsigned(_mm_movemask_ps(_mm_cmple_ps(t0, t1)));
+  }
+  BoxRay(const Ray& r, const Vec3& anchor) {
     // Power-of-two scale bringing the largest direction component into [1, 2) (exact, keeps t' in float range)
     // (exponent bits of the largest component; callers pass finite directions)
     const double m = std::max(std::abs(r.dir.x), std::max(std::abs(r.dir.y), std::abs(r.dir.z)));
@@ -76,18 +76,19 @@ struct BoxRayLanes {
     // +-FLT_MAX on the inner one (a NaN from inf - inf is replaced by the clamp: min/max return the bound).
     const __m128 o = _mm_movelh_ps(_mm_cvtpd_ps(_mm_sub_pd(_mm_loadu_pd(&r.origin.x), _mm_loadu_pd(&anchor.x))),
                                    _mm_cvtpd_ps(_mm_sub_sd(_mm_load_sd(&r.origin.z), _mm_load_sd(&anchor.z))));
-    using namespace box_detail;
-    const __m128 signBit = _mm_load_ps(kSignBit);
-    const __m128 step = _mm_add_ps(_mm_mul_ps(_mm_andnot_ps(signBit, o), _mm_load_ps(kStepScale)), _mm_load_ps(kFltMin));
-    const __m128 up = _mm_max_ps(_mm_add_ps(o, step), _mm_load_ps(kNegFltMax));
-    const __m128 down = _mm_min_ps(_mm_sub_ps(o, step), _mm_load_ps(kFltMax));
+    const __m128 signBit = _mm_set1_ps(-0.0f), fltMax = _mm_set1_ps(std::numeric_limits<float>::max());
+    const __m128 step = _mm_add_ps(_mm_mul_ps(_mm_andnot_ps(signBit, o), _mm_set1_ps(0x1p-22f)),
+                                   _mm_set1_ps(std::numeric_limits<float>::min()));
+    const __m128 up = _mm_max_ps(_mm_add_ps(o, step), _mm_xor_ps(fltMax, signBit));
+    const __m128 down = _mm_min_ps(_mm_sub_ps(o, step), fltMax);
     // Reciprocals (1 / +-0 = +-inf), magnitudes shrunk / grown by 2^-19 before the float conversion, whose
     // rounding (2^-24) leaves more than the 2^-23 that the float subtraction and product need. The near one
     // saturates at FLT_MAX, the far one may overflow to inf.
-    const __m128d one = _mm_load_pd(kOne2), signD = _mm_load_pd(kSignBit2);
+    const __m128d one = _mm_set1_pd(1.0), signD = _mm_set1_pd(-0.0);
     const __m128d invXY = _mm_div_pd(one, dXY), invZ = _mm_div_sd(one, dZ);
     const __m128d absXY = _mm_andnot_pd(signD, invXY), absZ = _mm_andnot_pd(signD, invZ);
-    const __m128d shrink = _mm_load_pd(kShrink2), grow = _mm_load_pd(kGrow2), maxD = _mm_load_pd(kFltMax2);
+    const __m128d shrink = _mm_set1_pd(1.0 - 0x1p-19), grow = _mm_set1_pd(1.0 + 0x1p-19);
+    const __m128d maxD = _mm_set1_pd(double(std::numeric_limits<float>::max()));
     const __m128 nearMag = _mm_movelh_ps(_mm_cvtpd_ps(_mm_min_pd(_mm_mul_pd(absXY, shrink), maxD)),
                                          _mm_cvtpd_ps(_mm_min_pd(_mm_mul_pd(absZ, shrink), maxD)));
     const __m128 farMag = _mm_movelh_ps(_mm_cvtpd_ps(_mm_mul_pd(absXY, grow)), _mm_cvtpd_ps(_mm_mul_pd(absZ, grow)));
@@ -95,84 +96,29 @@ struct BoxRayLanes {
     const __m128 dSign = _mm_and_ps(_mm_movelh_ps(_mm_cvtpd_ps(dXY), _mm_cvtpd_ps(dZ)), signBit);
     const __m128 negMask = _mm_castsi128_ps(_mm_srai_epi32(_mm_castps_si128(dSign), 31));
     // Near plane: lo for a positive direction (origin rounded up), hi for a negative one (rounded down)
-    nearOrg = _mm_or_ps(_mm_and_ps(negMask, down), _mm_andnot_ps(negMask, up));
-    farOrg = _mm_or_ps(_mm_and_ps(negMask, up), _mm_andnot_ps(negMask, down));
-    nearInv = _mm_or_ps(nearMag, dSign);
-    farInv = _mm_or_ps(farMag, dSign);
-    negative = _mm_movemask_ps(negMask) & 7;
+    const __m128 nearOrg = _mm_or_ps(_mm_and_ps(negMask, down), _mm_andnot_ps(negMask, up));
+    const __m128 farOrg = _mm_or_ps(_mm_and_ps(negMask, up), _mm_andnot_ps(negMask, down));
+    const __m128 nearInv = _mm_or_ps(nearMag, dSign), farInv = _mm_or_ps(farMag, dSign);
+    const int negative = _mm_movemask_ps(negMask);
+    alignas(16) float lanes[4][4];  // near origin, far origin, near reciprocal, far reciprocal
+    _mm_store_ps(lanes[0], nearOrg);
+    _mm_store_ps(lanes[1], farOrg);
+    _mm_store_ps(lanes[2], nearInv);
+    _mm_store_ps(lanes[3], farInv);
+    for (int k = 0; k < 3; ++k) {  // broadcast per axis for the four-box test
+      orgNear[k] = _mm_set1_ps(lanes[0][k]);
+      orgFar[k] = _mm_set1_ps(lanes[1][k]);
+      invNear[k] = _mm_set1_ps(lanes[2][k]);
+      invFar[k] = _mm_set1_ps(lanes[3][k]);
+      nearBound[k] = (negative >> k) & 1 ? 3 + k : k;
+      farBound[k] = (negative >> k) & 1 ? k : 3 + k;
+      nearOffset[k] = offsetof(BvhWideNode, b) + std::size_t(nearBound[k]) * sizeof(BvhWideNode::b[0]);
+      farOffset[k] = offsetof(BvhWideNode, b) + std::size_t(farBound[k]) * sizeof(BvhWideNode::b[0]);
+    }
     // Rounded origins beyond float range are +-inf (up, down): the empty-slot masks are needed then
     const __m128 infinite = _mm_cmpeq_ps(_mm_max_ps(_mm_andnot_ps(signBit, up), _mm_andnot_ps(signBit, down)),
-                                         _mm_load_ps(kInf));
+                                         _mm_set1_ps(std::numeric_limits<float>::infinity()));
     emptyMayPass = (_mm_movemask_ps(infinite) & 7) != 0;
-  }
-  /// Whether the ray may enter a box within [t0, t1] (box-test units), given the box's near and far plane per
-  /// axis for this ray's direction signs (lanes x y z; lo for a positive direction's near plane, hi for its far
-  /// one): BoxRay::enter's slab test for one box, so it passes every box that a box inside it passes (the float
-  /// subtraction and product are monotonic). A NaN distance never rejects here.
-  bool mayEnter(__m128 nearPlane, __m128 farPlane, float t0, float t1) const {
-    // max / min return their second operand for a NaN: t0 / t1 then
-    __m128 tn = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(nearPlane, nearOrg), nearInv), _mm_set1_ps(t0));
-    __m128 tf = _mm_min_ps(_mm_mul_ps(_mm_sub_ps(farPlane, farOrg), farInv), _mm_set1_ps(t1));
-    tn = _mm_max_ss(_mm_max_ss(tn, _mm_shuffle_ps(tn, tn, _MM_SHUFFLE(1, 1, 1, 1))),
-                    _mm_shuffle_ps(tn, tn, _MM_SHUFFLE(2, 2, 2, 2)));
-    tf = _mm_min_ss(_mm_min_ss(tf, _mm_shuffle_ps(tf, tf, _MM_SHUFFLE(1, 1, 1, 1))),
-                    _mm_shuffle_ps(tf, tf, _MM_SHUFFLE(2, 2, 2, 2)));
-    return _mm_comile_ss(tn, tf);
-  }
-};
-
-/// A ray prepared for the four-box tests of one tree's wide nodes: BoxRayLanes broadcast per axis. A NaN far
-/// product (0 * inf: an origin on a face plane of a parallel ray) is ignored by the slab test, which keeps such a
-/// ray (conservative).
-struct BoxRay {
-  __m128 orgNear[3], orgFar[3], invNear[3], invFar[3];
-  /// Byte offsets into a BvhWideNode of the near / far plane per axis (the single-ray loop adds them to the
-  /// node's address).
-  std::size_t nearOffset[3], farOffset[3];
-  int negative = 0;     ///< Bit k: direction component k is negative (BoxRayLanes::negative).
-  double tScale = 1.0;  ///< Box-test distances are t * tScale.
-  /// False when every origin coordinate is a float (not +-inf): then an empty child slot (box lo = +inf, hi = -inf)
-  /// never passes the slab test (its near distance is +inf, its far one -inf), and its mask needs no used().
-  bool emptyMayPass = true;
-  BoxRay() = default;  ///< Unset (the lanes of a packet's inactive rays).
-  BoxRay(const Ray& r, const Vec3& anchor) : BoxRay(BoxRayLanes(r, anchor)) {}
-  explicit BoxRay(const BoxRayLanes& l) : negative(l.negative), tScale(l.tScale), emptyMayPass(l.emptyMayPass) {
-    splat(l.nearOrg, orgNear);
-    splat(l.farOrg, orgFar);
-    splat(l.nearInv, invNear);
-    splat(l.farInv, invFar);
-    for (int k = 0; k < 3; ++k) {
-      nearOffset[k] = offsetof(BvhWideNode, b) + std::size_t(nearBound(k)) * sizeof(BvhWideNode::b[0]);
-      farOffset[k] = offsetof(BvhWideNode, b) + std::size_t(farBound(k)) * sizeof(BvhWideNode::b[0]);
-    }
-  }
-  /// out[k] = lane k of v in all four lanes (k = 0, 1, 2).
-  static void splat(__m128 v, __m128 out[3]) {
-    out[0] = _mm_shuffle_ps(v, v, _MM_SHUFFLE(0, 0, 0, 0));
-    out[1] = _mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 1, 1, 1));
-    out[2] = _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 2, 2, 2));
-  }
-  /// Index into BvhWideNode::b of the near / far plane of axis k.
-  int nearBound(int k) const { return (negative >> k & 1) ? 3 + k : k; }
-  int farBound(int k) const { return (negative >> k & 1) ? k : 3 + k; }
-  /// Slab test of wide node n's four boxes against [t0, t1] (box-test units): t0 becomes each box's entry distance
-  /// (at most the exact one); returns the mask of the boxes entered (AND it with n.used() when emptyMayPass: empty
-  /// slots may pass then).
-  unsigned enter(const BvhWideNode& n, __m128& t0, __m128 t1) const {
-    const char* node = reinterpret_cast<const char*>(&n);
-    for (int a = 0; a < 3; ++a) {
-      const __m128 lo = _mm_mul_ps(
-          _mm_sub_ps(_mm_load_ps(reinterpret_cast<const float*>(node + nearOffset[a])), orgNear[a]), invNear[a]);
-      const __m128 hi = _mm_mul_ps(
-          _mm_sub_ps(_mm_load_ps(reinterpret_cast<const float*>(node + farOffset[a])), orgFar[a]), invFar[a]);
-      // The far product's NaN (0 * inf: an origin on the far plane of a parallel ray; inf - inf: an infinite
-      // plane and an origin beyond float range) is ignored: min(hi, t1) returns t1 for a NaN hi. A near
-      // product is never NaN for a real box (its lo is never +inf nor its hi -inf, and the rounded origin
-      // never goes past +-FLT_MAX toward them); max(t0, lo) would return a NaN and reject the child.
-      t0 = _mm_max_ps(t0, lo);
-      t1 = _mm_min_ps(hi, t1);
-    }
-    return unsigned(_mm_movemask_ps(_mm_cmple_ps(t0, t1)));
   }
 };
 
@@ -193,19 +139,19 @@ struct JointBoxRay {
   /// children together than alone, and keep their own tests. Reciprocals spreading by more than 1/8 of their
   /// magnitude (a point light close to the surface) likewise.
   JointBoxRay(const BoxRay* br, const __m128* tMinV, const __m128* tMaxV, unsigned active, float maxSpread) {
-    if (active == 0) return;  // (no ray: unused)
     const int f = __builtin_ctz(active);
     for (unsigned m = active; m; m &= m - 1) {
       const int i = __builtin_ctz(m);
       if (br[i].tScale != br[f].tScale) return;
-      if (br[i].negative != br[f].negative) return;
+      for (int a = 0; a < 3; ++a)
+        if (br[i].nearBound[a] != br[f].nearBound[a]) return;
     }
     const __m128 finiteMax = _mm_set1_ps(std::numeric_limits<float>::max());
     const __m128 signBit = _mm_set1_ps(-0.0f);
     tMin = tMinV[f];
     tMax = tMaxV[f];
     for (int a = 0; a < 3; ++a) {
-      const bool negative = br[f].negative >> a & 1;
+      const bool negative = br[f].nearBound[a] >= 3;
       __m128 oNearLo = br[f].orgNear[a], oNearHi = oNearLo, oFarLo = br[f].orgFar[a], oFarHi = oFarLo;
       __m128 nLo = br[f].invNear[a], nHi = nLo, fLo = br[f].invFar[a], fHi = fLo;
       __m128 finite = _mm_set1_ps(-1.0f);  // all ones while every value is finite
@@ -226,8 +172,8 @@ struct JointBoxRay {
       orgNear[a] = negative ? oNearLo : oNearHi;
       orgFar[a] = negative ? oFarHi : oFarLo;
       invLo[a] = nLo, invHi[a] = nHi, invFarLo[a] = fLo, invFarHi[a] = fHi;
-      nearBound[a] = br[f].nearBound(a);
-      farBound[a] = br[f].farBound(a);
+      nearBound[a] = br[f].nearBound[a];
+      farBound[a] = br[f].farBound[a];
     }
     for (unsigned m = active; m; m &= m - 1) {
       tMin = _mm_min_ps(tMin, tMinV[__builtin_ctz(m)]);

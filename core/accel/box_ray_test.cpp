@@ -67,8 +67,8 @@ TEST(Bvh, FloatBoxTestIsConservativeForDoubleRays) {
 // The stored float boxes themselves (leaf children), touched exactly: rays aimed at a corner or an edge of a leaf's
 // single-precision box (its exact value b + anchor, in long double), from near and far, at every scale and offset.
 // Half of these rays only touch the box, so any rounding toward the inside (origin, reciprocal, subtraction,
-// product) loses some. Trees of 64 boxes and of 3 (a root whose box, tested first by the closest-hit walks, has
-// faces in common with every leaf's), walked by the single-ray and the packet closest-hit traversals.
+// product) loses some. Trees of 64 boxes and of 3 (every leaf's box shares faces with the root's), walked by the
+// single-ray and the packet closest-hit traversals.
 TEST(Bvh, FloatBoxTestKeepsRaysTouchingTheStoredBox) {
   std::mt19937 rng(12);
   std::uniform_real_distribution<double> U(-1, 1), U01(0, 1);

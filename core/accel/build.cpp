@@ -40,7 +40,6 @@ void Bvh::build(const Bounds3* boxes, const Vec3* givenCentroids, std::size_t co
                           : buildSah(boxes, centroids, n, opt, anchor_, pool, wide_, primIndices_);
   depth_ = t.depth;
   bounds_ = t.bounds;
-  setRootBox();
   if (opt.cancel && opt.cancel->load(std::memory_order_relaxed)) clear();  // maybe unfinished: nothing is kept
 }
 

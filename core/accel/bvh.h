@@ -11,12 +11,10 @@
 
 #include <emmintrin.h>  // SSE2: part of every x86-64 CPU (Debian 12's baseline)
 
-#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <limits>
 #include <vector>
 
 namespace whitted {
@@ -100,8 +98,6 @@ class Bvh {
   /// plane), conservatively for the double ray (BoxRay); the stack carries each entry's distance, so entries
   /// behind a hit found meanwhile are dropped unvisited; fixed-size stack, no allocation, no virtual call; the
   /// callback is inlined.
-  /// A closest-hit walk tests the root box first, before the per-node set-up, so a ray that misses it costs little
-  /// (camera rays past an object); an any-hit walk does not (shadow rays leave a surface in the scene).
   template <bool AnyHit, typename LeafFn>
   bool traverse(const Ray& ray, double& tMax, LeafFn&& leaf, uint64_t* nodesVisited = nullptr,
                 LeafData leafData = {}) const;
@@ -133,8 +129,7 @@ class Bvh {
   /// Performance note: a node's boxes are loaded once for the packet; while the rays are close (JointBoxRay) one
   /// box test serves all of them for inner children, and each stack entry carries a per-ray entry distance so
   /// entries behind every ray's hit are dropped unvisited; children are visited nearest first by the joint entry
-  /// distance (or the first active ray's). Rays that miss the root box (traverse()'s test) leave the packet
-  /// before the per-node set-up and the joint test.
+  /// distance (or the first active ray's).
   template <typename LeafFn>
   unsigned traverse4(const Ray* rays, unsigned active, double* tMax, LeafFn&& leaf, uint64_t* nodesVisited = nullptr,
                      LeafData leafData = {}) const;
@@ -155,41 +150,14 @@ class Bvh {
   /// active without the rays whose origin or direction is not finite (they visit nothing, as in traverse()).
   static unsigned finiteRays(const Ray* rays, unsigned active);
   /// A packet's per-ray box-test set-up (limits tMax[i], or each ray's tMax without it; lanes of inactive rays are
-  /// 0 in tMaxF) and its joint test. With testRoot, the rays that miss the root box are taken out of active first.
-  JointBoxRay prepare(const Ray* rays, unsigned& active, const double* tMax, BoxRay* br, __m128* tMinV, __m128* tMaxV,
-                      float* tMaxF, bool testRoot) const;
-  /// Whether a ray with the box-test values l may enter the root box within [t0, t1] (box-test units).
-  bool mayEnterRoot(const BoxRayLanes& l, float t0, float t1) const {
-    return l.mayEnter(_mm_load_ps(rootPlanes_[l.negative][0]), _mm_load_ps(rootPlanes_[l.negative][1]), t0, t1);
-  }
+  /// 0 in tMaxF) and its joint test.
+  JointBoxRay prepare(const Ray* rays, unsigned active, const double* tMax, BoxRay* br, __m128* tMinV, __m128* tMaxV,
+                      float* tMaxF) const;
   /// The tree is one leaf: a root with a single leaf child.
   bool isOneLeaf() const {
     const BvhWideNode& root = wide_[0];
     return wide_.size() == 1 && root.count[1] == BvhWideNode::kEmpty && root.count[0] != 0 &&
            root.count[0] != BvhWideNode::kEmpty;
-  }
-  /// Sets rootPlanes_ from the root node (after a build or refit).
-  void setRootBox() {
-    float lo[3], hi[3];
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::numeric_limits<float>::infinity();
-      hi[k] = -std::numeric_limits<float>::infinity();
-    }
-    if (!wide_.empty()) {
-      const BvhWideNode& root = wide_[0];
-      for (int c = 0; c < 4; ++c)
-        if (root.count[c] != BvhWideNode::kEmpty)
-          for (int k = 0; k < 3; ++k) {
-            lo[k] = std::min(lo[k], root.b[k][c]);
-            hi[k] = std::max(hi[k], root.b[3 + k][c]);
-          }
-    }
-    for (int octant = 0; octant < 8; ++octant)
-      for (int k = 0; k < 4; ++k) {
-        const bool negative = k < 3 && (octant >> k & 1);
-        rootPlanes_[octant][0][k] = k == 3 ? 0.0f : negative ? hi[k] : lo[k];
-        rootPlanes_[octant][1][k] = k == 3 ? 0.0f : negative ? lo[k] : hi[k];
-      }
   }
   void clear() {  // the empty tree
     wide_.clear();
@@ -217,10 +185,6 @@ class Bvh {
 
   BvhWideNodes wide_;
   Vec3 anchor_{0.0};  ///< The first finite centroid; node boxes are stored relative to it.
-  /// The root node's box (the union of its children's, anchored floats), as the near and far plane per axis
-  /// (lanes x y z, lane 3 zero) for each octant of direction signs (BoxRayLanes::negative): traverse() tests it
-  /// before its per-node set-up.
-  alignas(16) float rootPlanes_[8][2][4] = {};
   Bounds3 bounds_;
   std::vector<uint32_t> primIndices_;
   int depth_ = 0;

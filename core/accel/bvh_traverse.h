@@ -58,17 +58,7 @@ inline bool Bvh::traverse(const Ray& ray, double& tMax, LeafFn&& leaf, uint64_t*
     if (nodesVisited) ++*nodesVisited;
     return leaf(wide_[0].first[0], wide_[0].count[0], tMax);
   }
-  // Closest hit: the root box first, with the ray's values as computed (no broadcast), so a ray that misses it
-  // (most camera rays that miss an object) pays no more set-up. Any hit (shadow rays leave a surface in the
-  // scene, inside the box) goes straight to the root node
-  const BoxRayLanes lanes(ray, anchor_);
-  const float tMinF = floatBelow(ray.tMin * lanes.tScale);
-  float tMaxF = floatAbove(tMax * lanes.tScale);
-  if (!AnyHit && !mayEnterRoot(lanes, tMinF, tMaxF)) {
-    if (nodesVisited) ++*nodesVisited;  // the root, as its box test counts
-    return false;
-  }
-  const BoxRay br(lanes);
+  const BoxRay br(ray, anchor_);
   const bool maskEmpty = br.emptyMayPass;
   const BvhWideNode* nodes = wide_.data();
   // Where pushed leaves' primitives are prefetched from (without leaf-ordered primitives: the root node, cached)
@@ -97,7 +87,8 @@ inline bool Bvh::traverse(const Ray& ray, double& tMax, LeafFn&& leaf, uint64_t*
   };
   uint64_t visited = 0;  // counted locally, stored once (no memory write per node)
   bool hitAny = false;
-  const __m128 tMinV = _mm_set1_ps(tMinF);
+  const __m128 tMinV = _mm_set1_ps(floatBelow(ray.tMin * br.tScale));
+  float tMaxF = floatAbove(tMax * br.tScale);
   // The child visited next: a wide node (count 0, first its index) or a leaf (slots first .. first+count). The
   // nearest entered child is visited next without a trip through the stack; the others are pushed
   uint32_t first = 0, count = 0;

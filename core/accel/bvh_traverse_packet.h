@@ -22,22 +22,15 @@ inline unsigned Bvh::finiteRays(const Ray* rays, unsigned active) {
 
 /// A packet's per-ray box-test set-up (limits tMax[i], or each ray's tMax without it; lanes of inactive rays are
 /// 0 in tMaxF) and its joint test.
-inline JointBoxRay Bvh::prepare(const Ray* rays, unsigned& active, const double* tMax, BoxRay* br, __m128* tMinV,
-                                __m128* tMaxV, float* tMaxF, bool testRoot) const {
+inline JointBoxRay Bvh::prepare(const Ray* rays, unsigned active, const double* tMax, BoxRay* br, __m128* tMinV,
+                                __m128* tMaxV, float* tMaxF) const {
   for (int i = 0; i < 4; ++i) {
     tMaxF[i] = 0.0f;
     if (!(active >> i & 1)) continue;
-    const BoxRayLanes lanes(rays[i], anchor_);
-    const float t0 = floatBelow(rays[i].tMin * lanes.tScale);
-    const float t1 = floatAbove((tMax ? tMax[i] : rays[i].tMax) * lanes.tScale);
-    if (testRoot && !mayEnterRoot(lanes, t0, t1)) {  // (traverse(): no hit, no further set-up)
-      active &= ~(1u << i);
-      continue;
-    }
-    br[i] = BoxRay(lanes);
-    tMinV[i] = _mm_set1_ps(t0);
-    tMaxF[i] = t1;
-    tMaxV[i] = _mm_set1_ps(t1);
+    br[i] = BoxRay(rays[i], anchor_);
+    tMinV[i] = _mm_set1_ps(floatBelow(rays[i].tMin * br[i].tScale));
+    tMaxF[i] = floatAbove((tMax ? tMax[i] : rays[i].tMax) * br[i].tScale);
+    tMaxV[i] = _mm_set1_ps(tMaxF[i]);
   }
   const Vec3 extent = bounds_.hi - bounds_.lo;
   return JointBoxRay(br, tMinV, tMaxV, active, float(std::max(extent.x, std::max(extent.y, extent.z)) * kJointSpread));
@@ -55,7 +48,7 @@ inline unsigned Bvh::traverseAny4(const Ray* rays, unsigned active, LeafFn&& lea
   BoxRay br[4];
   __m128 tMinV[4], tMaxV[4];
   alignas(16) float tMaxF[4];
-  const JointBoxRay joint = prepare(rays, active, nullptr, br, tMinV, tMaxV, tMaxF, false);
+  const JointBoxRay joint = prepare(rays, active, nullptr, br, tMinV, tMaxV, tMaxF);
   struct Entry {
     uint32_t first, count;
     unsigned rays;
@@ -137,12 +130,7 @@ inline unsigned Bvh::traverse4(const Ray* rays, unsigned active, double* tMax, L
   BoxRay br[4];
   __m128 tMinV[4], tMaxV[4];
   alignas(16) float tMaxF[4];  // lane i: ray i's limit (its box-test units)
-  // The rays that miss the root box (camera rays past the object) leave the packet before the per-node set-up
-  const JointBoxRay joint = prepare(rays, active, tMax, br, tMinV, tMaxV, tMaxF, true);
-  if (active == 0) {
-    if (nodesVisited) ++*nodesVisited;  // the root, as its box test counts
-    return 0;
-  }
+  const JointBoxRay joint = prepare(rays, active, tMax, br, tMinV, tMaxV, tMaxF);
   __m128 jointTMax = joint.valid ? joint.tMax : _mm_setzero_ps();  // the largest active limit (one tScale)
   struct Entry {
     __m128 t;  // lane i: ray i's entry distance (box-test units), at most its own computed one

@@ -30,7 +30,6 @@ void Bvh::refitFrom(const std::vector<Bounds3>& boxes, bool gather) {
   const LeafOrderBoxes leafBox(boxes.data(), uint32_t(boxes.size()), gather ? primIndices_.data() : nullptr, anchor_,
                                pool);
   bounds_ = toBounds(Refitter<LeafOrderBoxes>{wide_, leafBox}.all(pool), anchor_);
-  setRootBox();
 }
 
 double Bvh::sahCost() const {

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <new>
-#include <optional>
 #include <type_traits>
 
 namespace whitted {
@@ -107,13 +106,10 @@ template <typename Shape>
 bool closestHit(const Object& o, const typename Shape::Geometry& g, uint32_t instance, const Ray& ray, double tLimit,
                 double& tMax, Hit& hit, uint64_t* nodes) {
   const uint32_t* leafPrims = o.leafPrims();
-  // The leaf tests' per-ray set-up is made at the first leaf: a ray that misses the object (its root box) skips it
-  std::optional<typename Shape::Tester> test;
   return o.bvh.traverse<false>(
       ray, tMax,
-      [&](uint32_t first, uint32_t count, double& tm) {
-        if (!test) test.emplace(g, leafPrims, ray);
-        return closestLeaf<Shape>(*test, leafPrims, instance, ray, tLimit, first, count, tm, hit);
+      [&, test = typename Shape::Tester(g, leafPrims, ray)](uint32_t first, uint32_t count, double& tm) {
+        return closestLeaf<Shape>(test, leafPrims, instance, ray, tLimit, first, count, tm, hit);
       },
       nodes, leafData<Shape>(g));
 }
