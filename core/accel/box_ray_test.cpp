@@ -67,15 +67,17 @@ TEST(Bvh, FloatBoxTestIsConservativeForDoubleRays) {
 // The stored float boxes themselves (leaf children), touched exactly: rays aimed at a corner or an edge of a leaf's
 // single-precision box (its exact value b + anchor, in long double), from near and far, at every scale and offset.
 // Half of these rays only touch the box, so any rounding toward the inside (origin, reciprocal, subtraction,
-// product) loses some.
+// product) loses some. Trees of 64 boxes and of 3 (every leaf's box shares faces with the root's), walked by the
+// single-ray and the packet closest-hit traversals.
 TEST(Bvh, FloatBoxTestKeepsRaysTouchingTheStoredBox) {
   std::mt19937 rng(12);
   std::uniform_real_distribution<double> U(-1, 1), U01(0, 1);
   long touching = 0;
+  for (int count : {64, 3})
   for (double scale : {1e-6, 1.0, 1e4})
     for (double offset : {0.0, 3e2, 1e7}) {
       std::vector<Bounds3> boxes;
-      for (int i = 0; i < 64; ++i) {
+      for (int i = 0; i < count; ++i) {
         Vec3 c = Vec3(offset) + scale * 10.0 * Vec3(U(rng), U(rng), U(rng));
         boxes.push_back(Bounds3{c - Vec3(scale * 0.3), c + Vec3(scale * 0.3)});
       }
@@ -109,11 +111,17 @@ TEST(Bvh, FloatBoxTestKeepsRaysTouchingTheStoredBox) {
             ++touching;
             bool seen = false;
             double tMax = r.tMax;
-            bvh.traverse<false>(r, tMax, [&](uint32_t first, uint32_t count, double&) {
-              for (uint32_t i = first; i < first + count; ++i) seen |= bvh.primIndices()[i] == prim;
+            bvh.traverse<false>(r, tMax, [&](uint32_t first, uint32_t cnt, double&) {
+              for (uint32_t i = first; i < first + cnt; ++i) seen |= bvh.primIndices()[i] == prim;
               return false;
             });
             ASSERT_TRUE(seen) << "scale " << scale << " offset " << offset << " ray " << k;
+            seen = false;
+            bvh.traverse4(&r, 1u, &tMax, [&](uint32_t first, uint32_t cnt, unsigned, double*) {
+              for (uint32_t i = first; i < first + cnt; ++i) seen |= bvh.primIndices()[i] == prim;
+              return 0u;
+            });
+            ASSERT_TRUE(seen) << "packet: scale " << scale << " offset " << offset << " ray " << k;
           }
         }
     }

@@ -15,23 +15,6 @@ void triangle_detail::edgeFunctionsExtended(double ax, double ay, double bx, dou
   w = (double)lw;
 }
 
-TriangleRay::TriangleRay(const Ray& ray) {
-  // Permute axes so the ray direction's largest component is z (on ties y over x, z over both), keeping the
-  // winding: (kx, ky) = the two following axes, swapped for a negative dz
-  const double ax = std::abs(ray.dir.x), ay = std::abs(ray.dir.y), az = std::abs(ray.dir.z);
-  static constexpr int kNext[3][2] = {{1, 2}, {2, 0}, {0, 1}};
-  kz = (ax > ay) ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
-  const double dz = ray.dir[kz];
-  const bool flip = dz < 0.0;
-  kx = kNext[kz][flip];
-  ky = kNext[kz][!flip];
-  valid = dz != 0.0 && isFinite(ray.dir);
-  if (!valid) return;
-  sx = ray.dir[kx] / dz;
-  sy = ray.dir[ky] / dz;
-  sz = 1.0 / dz;
-}
-
 std::optional<PrimHit> intersectTriangle(const Ray& ray, const TriangleRay& tr, const Vec3& p0, const Vec3& p1,
                                          const Vec3& p2) {
   PrimHit h;

@@ -33,7 +33,23 @@ struct TriangleRay {
   int kx = 0, ky = 1, kz = 2;
   double sx = 0.0, sy = 0.0, sz = 0.0;
   bool valid = false;  ///< false for a zero or non-finite direction (then nothing is hit)
-  explicit TriangleRay(const Ray& ray);
+  explicit TriangleRay(const Ray& ray) {
+    // Permute axes so the ray direction's largest component is z (on ties y over x, z over both), keeping the
+    // winding: (kx, ky) = the two following axes, swapped for a negative dz
+    const double ax = std::abs(ray.dir.x), ay = std::abs(ray.dir.y), az = std::abs(ray.dir.z);
+    static constexpr int kNext[3][2] = {{1, 2}, {2, 0}, {0, 1}};
+    kz = (ax > ay) ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+    const double* d = &ray.dir.x;
+    const double dz = d[kz];
+    const bool flip = dz < 0.0;
+    kx = kNext[kz][flip];
+    ky = kNext[kz][!flip];
+    valid = dz != 0.0 && isFinite(ray.dir);
+    if (!valid) return;
+    sx = d[kx] / dz;
+    sy = d[ky] / dz;
+    sz = 1.0 / dz;
+  }
 };
 
 namespace triangle_detail {
@@ -51,11 +67,15 @@ inline bool intersectTriangle(const Vec3& origin, double tMin, double tMax, cons
   const int kx = tr.kx, ky = tr.ky, kz = tr.kz;
   const double sx = tr.sx, sy = tr.sy, sz = tr.sz;
 
-  // Translate vertices to the ray origin and shear so the ray becomes the +z axis
-  Vec3 a = p0 - origin, b = p1 - origin, c = p2 - origin;
-  double ax = a[kx] - sx * a[kz], ay = a[ky] - sy * a[kz];
-  double bx = b[kx] - sx * b[kz], by = b[ky] - sy * b[kz];
-  double cx = c[kx] - sx * c[kz], cy = c[ky] - sy * c[kz];
+  // Translate vertices to the ray origin and shear so the ray becomes the +z axis. The permuted coordinates are
+  // loaded by index (a runtime index into a Vec3 temporary compiles to compare-and-branch chains per use)
+  static_assert(sizeof(Vec3) == 3 * sizeof(double), "x, y, z contiguous");
+  const double *o = &origin.x, *q0 = &p0.x, *q1 = &p1.x, *q2 = &p2.x;
+  const double oX = o[kx], oY = o[ky], oZ = o[kz];
+  const double aZ = q0[kz] - oZ, bZ = q1[kz] - oZ, cZ = q2[kz] - oZ;
+  double ax = (q0[kx] - oX) - sx * aZ, ay = (q0[ky] - oY) - sy * aZ;
+  double bx = (q1[kx] - oX) - sx * bZ, by = (q1[ky] - oY) - sy * bZ;
+  double cx = (q2[kx] - oX) - sx * cZ, cy = (q2[ky] - oY) - sy * cZ;
 
   // Scaled barycentrics (edge functions)
   double u = cx * by - cy * bx;
@@ -67,7 +87,7 @@ inline bool intersectTriangle(const Vec3& origin, double tMin, double tMax, cons
   if (det == 0.0 || !std::isfinite(det)) return false;
 
   // Scaled hit distance and range test without division
-  double az = sz * a[kz], bz = sz * b[kz], cz = sz * c[kz];
+  double az = sz * aZ, bz = sz * bZ, cz = sz * cZ;
   double tScaled = u * az + v * bz + w * cz;
   double invDet = 1.0 / det;
   double t = tScaled * invDet;

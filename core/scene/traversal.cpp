@@ -99,12 +99,12 @@ template <typename Shape>
   return found;
 }
 
-/// Closest hit of an object-space ray with object o of shape Shape (instance: its instance id, for the tie-break).
-/// Shrinks tMax and updates hit; returns true if hit changed.
+/// Closest hit of an object-space ray with object o of shape Shape (instance: its instance id, for the tie-break)
+/// within tLimit (ray.tMax is not read: a world ray serves an identity instance without a copy). Shrinks tMax and
+/// updates hit; returns true if hit changed.
 template <typename Shape>
-bool closestHit(const Object& o, const typename Shape::Geometry& g, uint32_t instance, const Ray& ray, double& tMax,
-                Hit& hit, uint64_t* nodes) {
-  const double tLimit = ray.tMax;
+bool closestHit(const Object& o, const typename Shape::Geometry& g, uint32_t instance, const Ray& ray, double tLimit,
+                double& tMax, Hit& hit, uint64_t* nodes) {
   const uint32_t* leafPrims = o.leafPrims();
   return o.bvh.traverse<false>(
       ray, tMax,
@@ -112,6 +112,14 @@ bool closestHit(const Object& o, const typename Shape::Geometry& g, uint32_t ins
         return closestLeaf<Shape>(test, leafPrims, instance, ray, tLimit, first, count, tm, hit);
       },
       nodes, leafData<Shape>(g));
+}
+
+/// closestHit() of object o by its shape (one switch; the shape's traversal is compiled for it).
+bool closestInObject(const Object& o, uint32_t instance, const Ray& ray, double& tMax, Hit& hit, uint64_t* nodes) {
+  const double tLimit = tMax;
+  return visitShape(o, [&](auto shape, const auto& g) {
+    return closestHit<decltype(shape)>(o, g, instance, ray, tLimit, tMax, hit, nodes);
+  });
 }
 
 /// Testers (a Tester has no default constructor) for the active rays of a packet, set up in place.
@@ -187,6 +195,14 @@ bool crossObject(const Object& o, const typename Shape::Geometry& g, const Ray& 
       nodes, leafData<Shape>(g));
 }
 
+/// crossObject() of object o by its shape (one switch; the shape's traversal is compiled for it).
+bool crossInObject(const Object& o, const Ray& r, const Color& kt, float cutoff, Color& atten, CountedCrossings& counted,
+                   bool& cut, uint64_t* nodes) {
+  return visitShape(o, [&](auto shape, const auto& g) {
+    return crossObject<decltype(shape)>(o, g, r, kt, cutoff, atten, counted, cut, nodes);
+  });
+}
+
 /// Opaque-object part of a shadow packet: the object-space rays r[i] (bits of active) through object o of shape
 /// Shape. Returns the mask of rays blocked (each ray's exact leaf test, as crossObject's opaque case).
 template <typename Shape>
@@ -253,24 +269,23 @@ unsigned Scene::occludedPacket(const Ray* rays, unsigned active, unsigned& block
 bool Scene::intersect(const Ray& ray, Hit& hit, uint64_t* nodes) const {
   hit = Hit{};
   double tMax = ray.tMax;
-  auto instancesInLeaf = [&](uint32_t first, uint32_t count, double& tm) {
-    bool any = false;
-    for (uint32_t s = first; s < first + count; ++s) {
-      const uint32_t id = topInstances_[s];
-      const Instance& in = instances_[id];
-      const Object& o = objects_[in.object];
-      Ray r = in.objectRay(ray);
-      r.tMax = tm;
-      if (visitShape(o, [&](auto shape, const auto& g) {
-            return closestHit<decltype(shape)>(o, g, id, r, tm, hit, nodes);
-          }))
-        any = true;
-    }
-    return any;
+  // One instance: the world ray itself for an identity transform (no copy), else the object-space ray
+  auto instance = [&](uint32_t id, double& tm) __attribute__((always_inline)) {
+    const Instance& in = instances_[id];
+    const Object& o = objects_[in.object];
+    return in.identity ? closestInObject(o, id, ray, tm, hit, nodes)
+                       : closestInObject(o, id, in.objectRay(ray), tm, hit, nodes);
   };
   // A single instance needs no top level (its object's root node tests the same box)
-  if (topInstances_.size() == 1) return instancesInLeaf(0, 1, tMax);
-  return top_.traverse<false>(ray, tMax, instancesInLeaf, nodes);
+  if (topInstances_.size() == 1) return instance(topInstances_[0], tMax);
+  return top_.traverse<false>(
+      ray, tMax,
+      [&](uint32_t first, uint32_t count, double& tm) {
+        bool any = false;
+        for (uint32_t s = first; s < first + count; ++s) any |= instance(topInstances_[s], tm);
+        return any;
+      },
+      nodes);
 }
 
 unsigned Scene::intersectPacket(const Ray* rays, unsigned active, Hit* hits, uint64_t* nodes) const {
@@ -308,22 +323,25 @@ Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes, bool* 
   bool cut = false;
   CountedCrossings counted;
   double tMax = ray.tMax;
-  auto instancesInLeaf = [&](uint32_t first, uint32_t count, double&) {
-    for (uint32_t s = first; s < first + count; ++s) {
-      const Instance& in = instances_[topInstances_[s]];
-      const Object& o = objects_[in.object];
-      const Color kt = materials_[in.material].transmittance;
-      const Ray r = in.objectRay(ray);
-      counted.clear();  // crossings are shared only between primitives of one object
-      if (visitShape(o, [&](auto shape, const auto& g) {
-            return crossObject<decltype(shape)>(o, g, r, kt, cutoff, atten, counted, cut, nodes);
-          }))
-        return true;
-    }
-    return false;
+  // One instance: the world ray itself for an identity transform (no copy), else the object-space ray
+  auto instance = [&](uint32_t id) __attribute__((always_inline)) {
+    const Instance& in = instances_[id];
+    const Object& o = objects_[in.object];
+    const Color kt = materials_[in.material].transmittance;
+    counted.clear();  // crossings are shared only between primitives of one object
+    return in.identity ? crossInObject(o, ray, kt, cutoff, atten, counted, cut, nodes)
+                       : crossInObject(o, in.objectRay(ray), kt, cutoff, atten, counted, cut, nodes);
   };
-  const bool blocked = topInstances_.size() == 1 ? instancesInLeaf(0, 1, tMax)
-                                                 : top_.traverse<true>(ray, tMax, instancesInLeaf, nodes);
+  const bool blocked = topInstances_.size() == 1
+                           ? instance(topInstances_[0])
+                           : top_.traverse<true>(
+                                 ray, tMax,
+                                 [&](uint32_t first, uint32_t count, double&) {
+                                   for (uint32_t s = first; s < first + count; ++s)
+                                     if (instance(topInstances_[s])) return true;
+                                   return false;
+                                 },
+                                 nodes);
   if (cutByThreshold) *cutByThreshold = blocked && cut;
   if (blocked) return Color(0.0f);
   if (features_.volumes) {
