@@ -385,24 +385,25 @@ vtkWhittedVolumeConverter::Verdict vtkWhittedVolumeConverter::Convert(
     this->Remove(e);
     return Traced; // nothing to draw
   }
+  // Not traced: warned, out of the scene, still counted as seen this frame
+  auto notTraced = [&](vtkWhittedWarnings::Warning message, const std::string& why, Verdict verdict) {
+    warnings.WarnVolume(volume, message, why);
+    this->Remove(e);
+    e.Used = true;
+    return verdict;
+  };
   vtkImageData* image = nullptr;
   vtkDataArray* array = nullptr;
   const std::string unsupported = Unsupported(volume, image, array);
   if (!unsupported.empty())
   {
-    warnings.WarnVolume(volume, vtkWhittedWarnings::VolumeOpenGL, unsupported);
-    this->Remove(e);
-    e.Used = true;
-    return OpenGL;
+    return notTraced(vtkWhittedWarnings::VolumeOpenGL, unsupported, OpenGL);
   }
   const Mat4 matrix = vtkWhittedToMat4(volume->GetMatrix());
   const std::string bad = BadGrid(image, array, matrix);
   if (!bad.empty())
   {
-    warnings.WarnVolume(volume, vtkWhittedWarnings::VolumeSkipped, bad);
-    this->Remove(e);
-    e.Used = true;
-    return Skipped;
+    return notTraced(vtkWhittedWarnings::VolumeSkipped, bad, Skipped);
   }
 
   // Geometry of the scene volume: matrix, step, interpolation

@@ -29,6 +29,7 @@ from paraview.simple import (ColorBy, GetColorTransferFunction, Hide, Plane, Ren
 wt.load_plugin(args.plugin)
 check = wt.Checks()
 SIZE = [300, 240]
+EYE, FOCUS = (0.0, 14.0, 75.0), (0.0, -6.0, 0.0)  # the test camera
 
 
 def report(view):
@@ -42,14 +43,6 @@ def report(view):
     return tuple(int(g) for g in m.groups())
 
 
-def camera(view):
-    paraview.simple._DisableFirstRenderCameraReset()
-    view.CameraPosition = [0.0, 14.0, 75.0]
-    view.CameraFocalPoint = [0.0, -6.0, 0.0]
-    view.CameraViewUp = [0.0, 1.0, 0.0]
-    view.CameraViewAngle = 30.0
-
-
 view = wt.make_view(SIZE)
 wavelet = Wavelet()
 volume = Show(wavelet, view)
@@ -57,7 +50,7 @@ volume.Representation = "Volume"
 ColorBy(volume, ("POINTS", "RTData"))
 lut = GetColorTransferFunction("RTData")
 lut.ApplyPreset("Cool to Warm", True)
-camera(view)
+wt.set_camera(view, EYE, FOCUS)
 
 # The volume alone: its direct footprint
 Render(view)
@@ -76,7 +69,7 @@ rv = wt.make_view(SIZE, proxy="RenderView")
 rv_volume = Show(wavelet, rv)
 rv_volume.Representation = "Volume"
 ColorBy(rv_volume, ("POINTS", "RTData"))
-camera(rv)
+wt.set_camera(rv, EYE, FOCUS)
 raster = wt.screenshot(rv, os.path.join(args.tmp, "volume_render_view.png"), SIZE)
 covered = (np.abs(alone - background).max(axis=2) > 1) | (np.abs(raster - background).max(axis=2) > 1)
 mae = float(np.abs(alone - raster)[covered].mean())
@@ -92,7 +85,7 @@ floor.DiffuseColor = [0.0, 0.0, 0.0]
 floor.AmbientColor = [0.0, 0.0, 0.0]
 floor.Specular = 0.0
 floor.Reflectance = 1.0
-camera(view)
+wt.set_camera(view, EYE, FOCUS)
 with_volume = wt.screenshot(view, os.path.join(args.tmp, "volume_mirror.png"), SIZE)
 Hide(wavelet, view)
 without = wt.screenshot(view, os.path.join(args.tmp, "volume_mirror_hidden.png"), SIZE)

@@ -107,13 +107,14 @@ def add_view_features(view, shown):
     view.CameraParallelScale = 2.2
 
 
-def set_camera(view):
-    """The test camera (and no automatic camera reset on the first render)."""
+def set_camera(view, position=(0.8, 3.6, 8.2), focal_point=(0.1, -0.45, 0.1)):
+    """The test camera, or a perspective camera at position looking at focal_point (view-up +y, 30 degrees), and
+    no automatic camera reset on the first render."""
     import paraview.simple
 
     paraview.simple._DisableFirstRenderCameraReset()
-    view.CameraPosition = [0.8, 3.6, 8.2]
-    view.CameraFocalPoint = [0.1, -0.45, 0.1]
+    view.CameraPosition = list(position)
+    view.CameraFocalPoint = list(focal_point)
     view.CameraViewUp = [0.0, 1.0, 0.0]
     view.CameraViewAngle = 30.0
     view.CameraParallelProjection = 0
