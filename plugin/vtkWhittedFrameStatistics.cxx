@@ -36,6 +36,7 @@ void vtkWhittedFrameStatistics::Reset()
   this->RefinementRounds = 0;
   this->TargetErrorMet = false;
   this->RefinementFinished = true;
+  this->RefinementExhausted = false;
   this->RefinementSeconds = 0.0;
   this->Aborted = this->Failed = false;
   this->Modified();
@@ -101,6 +102,7 @@ void vtkWhittedFrameStatistics::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RefinementRounds: " << this->RefinementRounds << "\n";
   os << indent << "TargetErrorMet: " << this->TargetErrorMet << "\n";
   os << indent << "RefinementFinished: " << this->RefinementFinished << "\n";
+  os << indent << "RefinementExhausted: " << this->RefinementExhausted << "\n";
   os << indent << "RefinementSeconds: " << this->RefinementSeconds << "\n";
   os << indent << "Aborted: " << this->Aborted << "\n";
   os << indent << "Failed: " << this->Failed << "\n";

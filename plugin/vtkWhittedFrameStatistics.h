@@ -185,13 +185,16 @@ public:
    * TargetError (false without a target). RefinementFinished: the refinement is over (target met,
    * budget spent, nothing left to refine, or no refinement asked for); false when the frame stopped
    * at the pass's RefinementRoundsPerFrame (progressive display: render again to continue) or was
-   * aborted. With progressive display the samples, rounds and RefinementSeconds (tracing seconds,
+   * aborted. RefinementExhausted: it is over because nothing was left to refine (every pixel whose
+   * estimate is not zero has the most samples a still frame takes): how a refinement without a
+   * TargetError ends before its TimeBudget is spent. With progressive display the samples, rounds and RefinementSeconds (tracing seconds,
    * what TimeBudget counts) are those of the whole refinement so far, over all its frames.
    */
   vtkGetMacro(NumberOfSamples, vtkTypeUInt64);
   vtkGetMacro(RefinementRounds, int);
   vtkGetMacro(TargetErrorMet, bool);
   vtkGetMacro(RefinementFinished, bool);
+  vtkGetMacro(RefinementExhausted, bool);
   vtkGetMacro(RefinementSeconds, double);
   ///@}
 
@@ -272,6 +275,7 @@ protected:
   int RefinementRounds = 0;
   bool TargetErrorMet = false;
   bool RefinementFinished = true;
+  bool RefinementExhausted = false;
   double RefinementSeconds = 0.0;
   bool Aborted = false;
   bool Failed = false;

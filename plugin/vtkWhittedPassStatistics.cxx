@@ -79,6 +79,7 @@ void vtkWhittedPassInternals::RecordStatistics(
   st->RefinementRounds = r.Trace.refinementRounds;
   st->TargetErrorMet = r.Trace.targetMet;
   st->RefinementFinished = r.Trace.refinementFinished;
+  st->RefinementExhausted = r.Trace.refinementExhausted;
   st->RefinementSeconds =
     this->Refinement.pixels.empty() ? r.Trace.secondsTrace : this->Refinement.seconds;
   st->Modified();

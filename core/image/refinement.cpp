@@ -83,6 +83,7 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
   int rounds = 0;
   bool worked = false;  // this call has refined something (a call always does, whatever its slice)
   fs.refinementFinished = false;
+  fs.refinementExhausted = false;
   for (;;) {
     // (a pending round is finished first: the image it left half refined may meet the target early)
     fs.targetMet = s_.targetError > 0.0 && fs.calibrated.rms <= s_.targetError && !anySingle();
@@ -230,6 +231,7 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
     }
     if (marked == 0) {
       fs.refinementFinished = true;
+      fs.refinementExhausted = true;
       break;
     }
     worked = true;

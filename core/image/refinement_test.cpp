@@ -226,6 +226,60 @@ TEST(ErrorEstimate, TimeBudgetRefinementContinuesAcrossCalls) {
   }
 }
 
+// A refinement without a target and with a budget it cannot spend ends when nothing is left to refine, and says
+// so (FrameStats::refinementExhausted: what the ParaView view's annotation names, so a GUI test can tell this end
+// from a budget cut short on a fast machine): every traced pixel then has the sample cap or a zero estimate. A
+// target met, the budget spent, or a frame continued by progressive calls after that end keep their own reasons.
+TEST(ErrorEstimate, RefinementWithoutTargetEndsWhenNothingIsLeftToRefine) {
+  const ClassicFirstPass c;
+  RenderSettings rs;
+  rs.threads = 1;
+  rs.timeBudget = 3600.0;
+  rs.maxProgressiveSamples = 16;  // (a small cap: the test ends in well under a second)
+  FrameBuffer fb;
+  const FrameStats fs = render(c.s, c.cam, rs, c.w, c.h, fb);
+  EXPECT_TRUE(fs.refinementFinished);
+  EXPECT_TRUE(fs.refinementExhausted);
+  EXPECT_FALSE(fs.targetMet);
+  ASSERT_GT(fs.refinementRounds, 0);
+  std::size_t capped = 0;
+  for (std::size_t i = 0; i < fb.samples.size(); ++i) {
+    if (!fb.traced[i]) continue;
+    EXPECT_TRUE(fb.samples[i] >= uint32_t(rs.maxProgressiveSamples) || fb.sampling[i] == 0.0f) << "pixel " << i;
+    capped += fb.samples[i] >= uint32_t(rs.maxProgressiveSamples);
+  }
+  EXPECT_GT(capped, 0u);
+
+  // The same end reached by progressive calls of one round each: the calls after it keep the reason
+  RefinementState state;
+  RenderSettings step = rs;
+  step.refinement = &state;
+  step.maxRefinementRounds = 1;
+  FrameStats p;
+  int calls = 0;
+  do {
+    p = render(c.s, c.cam, step, c.w, c.h, fb);
+    EXPECT_EQ(p.refinementExhausted, p.refinementFinished) << "call " << calls;
+  } while (!p.refinementFinished && ++calls < 1000);
+  EXPECT_TRUE(p.refinementExhausted);
+  p = render(c.s, c.cam, step, c.w, c.h, fb);  // after the end: nothing added, the reason kept
+  EXPECT_TRUE(p.refinementFinished);
+  EXPECT_TRUE(p.refinementExhausted);
+
+  // Other ends: a target met, a budget spent
+  RenderSettings target = rs;
+  target.targetError = 0.5 * c.first.calibrated.rms;
+  const FrameStats met = render(c.s, c.cam, target, c.w, c.h, fb);
+  EXPECT_TRUE(met.targetMet);
+  EXPECT_FALSE(met.refinementExhausted);
+  RenderSettings spent = rs;
+  spent.timeBudget = 1e-9;
+  spent.maxProgressiveSamples = 65535;
+  const FrameStats cut = render(c.s, c.cam, spent, c.w, c.h, fb);
+  EXPECT_TRUE(cut.refinementFinished);
+  EXPECT_FALSE(cut.refinementExhausted);
+}
+
 // Progressive display with rounds cut short: a time slice shorter than a tile (each call refines one tile per
 // thread) or an abort after every tile leaves the round unfinished; the next call finishes it first, so the frame
 // reached is the one refined in one call, bit for bit, with the same rounds and samples. Fails if a cut round's

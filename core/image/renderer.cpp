@@ -75,10 +75,12 @@ FrameStats FrameJob::run() {
         fs.progress = keep->progress;
       }
       const double before = resume ? keep->seconds : 0.0;
-      if (resume && keep->finished)
+      if (resume && keep->finished) {
         fs.targetMet = s_.targetError > 0.0 && fs.calibrated.rms <= s_.targetError;
-      else
+        fs.refinementExhausted = keep->exhausted;
+      } else {
         refine(start, before, fs, keep);
+      }
     }
   }
   fs.secondsTrace = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -88,6 +90,7 @@ FrameStats FrameJob::run() {
     keep->rounds = fs.refinementRounds;
     keep->progress = fs.progress;
     keep->finished = fs.refinementFinished;
+    keep->exhausted = fs.refinementExhausted;
     keep->width = w_;
     keep->height = h_;
     keep->pixels = std::move(acc_);

@@ -66,6 +66,7 @@ struct RefinementState {
   int rounds = 0;         ///< Refinement rounds run over all calls.
   uint64_t samples = 0;   ///< Camera samples traced over all calls.
   bool finished = false;  ///< Target met, budget spent or nothing left to refine: a call adds nothing.
+  bool exhausted = false;  ///< Finished because nothing was left to refine (FrameStats::refinementExhausted).
   /// A round cut short (abort, RenderSettings::refinementSlice): per pixel, what it still has to do (0: nothing);
   /// empty when no round is pending. The next call finishes it first.
   std::vector<uint8_t> pending;
@@ -159,6 +160,10 @@ struct FrameStats {
   /// when it stopped at RenderSettings::maxRefinementRounds, its slice or an abort, so another call would
   /// improve it.
   bool refinementFinished = true;
+  /// The refinement ended because nothing was left to refine (every pixel whose estimate is not zero has the most
+  /// samples a still frame takes and its loosest depth): the end of a refinement without a target before its Time
+  /// Budget is spent, or with a target it cannot reach.
+  bool refinementExhausted = false;
   std::vector<std::pair<double, double>> progress;
   int threads = 1;
   bool kernelReflection = false, kernelRefraction = false, kernelShadows = false;

@@ -6,7 +6,8 @@ state file, a camera nudge; for toolbar and shell, the playback's camera drag) a
 render again by itself (its timer on the Qt interactor), one refinement round per frame, the annotation showing
 "refining" with growing samples per pixel and a falling estimate (below its first value at the end and never
 above it; not frame by frame: new samples can reveal variance) and "<seconds> of <budget> s" with a budget, until a frame reports the end:
-the target met, or (a budget without target) the whole budget spent; then it must stop rendering. The script
+the target met, or (a budget without target) the whole budget spent or nothing left to refine (the annotation says
+which); then it must stop rendering. The script
 exits the GUI with 0 when that was seen, 1 when a frame went wrong or nothing happened for 90 s.
 
 Environment (each a ctest of its own, testing/paraview/CMakeLists.txt):
@@ -22,8 +23,10 @@ Environment (each a ctest of its own, testing/paraview/CMakeLists.txt):
   WHITTED_GUI_TARGET  Target Error (default 0.006; 0 = none).
   WHITTED_GUI_BUDGET  Time Budget in seconds (default 0 = none).
 No verdict depends on timing: with a target, a budget of 600 s cannot be spent before it is met (measured: about
-1 s); without a target the refinement ends only by spending the budget (8 s; 256 samples per pixel everywhere
-would take far longer), and the script checks the last frame's seconds against it, not how many frames came.
+1 s); without a target the refinement ends by spending the budget (2 s) or by having nothing left to refine
+(seen on a fast machine after 3.5 s at 30 spp with a 4 s budget; the annotation then says so), and the script
+checks the last frame's seconds against the budget unless the annotation gives that reason, not how many frames
+came.
 Fails on the code of issue 28 with a budget: the view stopped after its first rounds, "target not met".
 """
 import os
@@ -101,8 +104,13 @@ def on_frame(obj, event):
     errors = [number(r"error ([0-9.]+)", t) for t in series]
     spp = [number(r"([0-9.]+) spp", t) for t in series]
     problems = []
-    if len(refining) < (3 if TARGET > 0 else 2):
-        problems.append("only %d frames refining" % len(refining))
+    # The view rendered again by itself: the script asked for one still frame, so a series of two or more (one
+    # refining, then the end) came from the view's own timer (on the code of issue 28 the series stopped at its
+    # first frame). How many frames a refinement takes depends on the machine's speed (3 at 0.2 s with the target
+    # on a fast machine, many more under load): not counted beyond that
+    if not refining or len(series) < 2:
+        problems.append("the view did not render again by itself: %d frames, %d refining" % (len(series),
+                                                                                             len(refining)))
     # Every round adds samples (or, a truncation round, deepens the depth with none lost): samples per pixel
     # never fall and grow over the series. The calibrated estimate falls over the series: it ends below where it
     # started and never goes above it. Not frame by frame: a round's new samples may reveal variance its pixels'
@@ -118,10 +126,14 @@ def on_frame(obj, event):
         spent = number(r"([0-9.]+) of %g s" % BUDGET, text)
         if any(("of %g s" % BUDGET) not in t for t in series):
             problems.append("a frame's annotation does not show the budget")
-        if TARGET <= 0 and spent < BUDGET:
-            problems.append("ended after %.2f s of a %g s budget" % (spent, BUDGET))
+        # Without a target the refinement ends by spending the budget or, on a machine fast enough, when nothing
+        # is left to refine (every pixel whose samples disagree has the most samples a still frame takes), which
+        # the annotation says: either end is right, an end before the budget without that reason is not
+        if TARGET <= 0 and spent < BUDGET and "nothing left to refine" not in text:
+            problems.append("ended after %.2f s of a %g s budget with something left to refine" % (spent, BUDGET))
     what = "%d frames refined round by round, then %s and rendering stopped" % (
-        len(refining), "the target was met" if TARGET > 0 else "the budget was spent")
+        len(refining), "the target was met" if TARGET > 0 else
+        "nothing was left to refine" if "nothing left to refine" in text else "the budget was spent")
     # Stopped: no frame for 3 s after the one that ended the refinement
     after(3000, lambda: finish(0 if not problems and texts[-1] == text else 1,
                                what if not problems and texts[-1] == text else

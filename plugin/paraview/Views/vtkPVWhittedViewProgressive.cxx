@@ -167,9 +167,13 @@ void vtkPVWhittedView::UpdateErrorAnnotation(bool interactive, int reduction)
       std::snprintf(budget, sizeof budget, ", %.1f of %g s", stats->GetRefinementSeconds(),
         this->WhittedPass->GetTimeBudget());
     }
+    // How the refinement stands: going on, or over because nothing is left to refine (before the budget
+    // is spent, or short of a target); otherwise it ended at the target or the budget, which the text shows
+    const char* state = !stats->GetRefinementFinished() ? ", refining"
+      : stats->GetRefinementExhausted()                 ? ", nothing left to refine"
+                                                        : "";
     std::snprintf(text, sizeof text, "Whitted: %.0f ms, %.2f spp, error %.4f (RMS estimate)\n%s%s%s",
-      stats->GetRefinementSeconds() * 1e3, spp, stats->GetRMSError()[0], status, budget,
-      stats->GetRefinementFinished() ? "" : ", refining");
+      stats->GetRefinementSeconds() * 1e3, spp, stats->GetRMSError()[0], status, budget, state);
   }
   this->ErrorAnnotationText = text;
   this->ErrorAnnotation->SetInput(text);
