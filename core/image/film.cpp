@@ -164,7 +164,8 @@ bool FrameJob::missPixel(const Color& background, FilmPixel& p) const {
 }
 
 void FrameJob::tracePixels(int tileSlot, int n, bool refineOnly) {
-  RayStats& st = tileStats_[tileSlot];
+  TileCounts counts(tileStats_[tileSlot]);
+  RayStats& st = counts.st;
   uint64_t samples = 0, refined = 0;
   // One sample per pixel: neighbouring pixels of a row are traced as one block (Integrator::traceBlock), so
   // their shadow rays go as packets; several samples per pixel: the pixel's samples form the blocks

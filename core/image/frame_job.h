@@ -134,6 +134,19 @@ class FrameJob {
   int ts_, tilesX_, tilesY_;
   std::vector<int> myTiles_;         ///< This process's tiles (RenderSettings::tileStride), by slot.
   std::vector<RayStats> tileStats_;  ///< Per tile slot, summed in slot order.
+  /// A tile's counts on its thread's stack, added to its slot of tileStats_ once, when the tile's work ends (also
+  /// by an exception or an abort). Per-sample updates of tileStats_ itself had two threads writing neighbouring
+  /// slots, which share cache lines: 4% of an iso1m frame's time on 2 threads for a few instructions.
+  struct TileCounts {
+    explicit TileCounts(RayStats& slot) : slot_(slot) {}
+    ~TileCounts() { slot_ += st; }
+    TileCounts(const TileCounts&) = delete;
+    TileCounts& operator=(const TileCounts&) = delete;
+    RayStats st;
+
+   private:
+    RayStats& slot_;
+  };
   std::vector<uint8_t> tileDone_;    ///< Per tile slot, 1 once pass 1 traced it.
   std::vector<uint8_t> hitMask_;     ///< 1 where a pixel's samples hit anything.
   std::vector<uint8_t> marks_;       ///< Pixels to supersample (adaptive) or refine (see kKeep ...).

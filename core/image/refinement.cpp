@@ -301,7 +301,8 @@ void FrameJob::prepareLevels(int level) {
 }
 
 void FrameJob::refinePixels(int tileSlot, int maxSamples) {
-  RayStats& st = tileStats_[tileSlot];
+  TileCounts counts(tileStats_[tileSlot]);
+  RayStats& st = counts.st;
   uint64_t samples = 0, retraced = 0;
   forTilePixels(tileSlot, [&](int px, int py, std::size_t idx, const Color& rowBackground) {
     if (marks_[idx] == kKeep) return;

@@ -7,25 +7,6 @@
 
 namespace whitted {
 
-RayStats& RayStats::operator+=(const RayStats& o) {
-  primary += o.primary;
-  shadow += o.shadow;
-  reflection += o.reflection;
-  refraction += o.refraction;
-  savedByThreshold += o.savedByThreshold;
-  savedByDepth += o.savedByDepth;
-  nodesVisited += o.nodesVisited;
-  boundRays += o.boundRays;
-  volumeSamples += o.volumeSamples;
-  volumeTerminated += o.volumeTerminated;
-  volumeInvalidSamples += o.volumeInvalidSamples;
-  nonFiniteSamples += o.nonFiniteSamples;
-  clampedAlpha += o.clampedAlpha;
-  clampedDepth += o.clampedDepth;
-  nonFinitePixels += o.nonFinitePixels;
-  return *this;
-}
-
 Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings, const Vec3& cameraUp)
     : scene_(scene), s_(settings), up_(cameraUp) {
   // A light of zero colour or intensity adds nothing (and traces no shadow ray): left out here
