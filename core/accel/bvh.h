@@ -134,6 +134,29 @@ class Bvh {
   unsigned traverse4(const Ray* rays, unsigned active, double* tMax, LeafFn&& leaf, uint64_t* nodesVisited = nullptr,
                      LeafData leafData = {}) const;
 
+  /// Whether some leaf whose box and ancestors' boxes all pass mayEnter(const Bounds3&) (child boxes in input
+  /// coordinates, childBounds) makes leaf(first, count) return true; depth first, ending at the first such leaf.
+  /// For region queries (Scene::frustumMayHit); an empty tree has none.
+  template <typename BoxFn, typename LeafFn>
+  bool anyLeaf(BoxFn&& mayEnter, LeafFn&& leaf) const {
+    if (wide_.empty()) return false;
+    uint32_t stack[kWideStackSize + 4];
+    int sp = 0;
+    stack[sp++] = 0;
+    while (sp > 0) {
+      const BvhWideNode& n = wide_[stack[--sp]];
+      for (int c = 0; c < 4; ++c) {
+        if (n.count[c] == BvhWideNode::kEmpty || !mayEnter(childBounds(n, c))) continue;
+        if (n.count[c] > 0) {
+          if (leaf(n.first[c], n.count[c])) return true;
+        } else {
+          stack[sp++] = n.first[c];
+        }
+      }
+    }
+    return false;
+  }
+
   /// The point node coordinates are relative to: b[k][c] + anchor[k % 3] bounds child c (conservatively).
   const Vec3& anchor() const { return anchor_; }
   /// Child c's box of a node, in the tree's input coordinates (double, containing the float box exactly).

@@ -191,9 +191,32 @@ void FrameJob::tracePixels(int tileSlot, int n, bool refineOnly) {
   bool missKnown = false, missClean = false;
   int termRow = -1;  // the row of rowTerm (camera rays by rows: Camera::rayPixelRow)
   Vec4 rowTerm(0.0);
+  // Block culling (RenderSettings::blockCulling): per 8x8 block of the tile, whether its frustum can meet anything
+  // (0 not known yet, 1 yes, 2 no), found when a pending run of pixels first needs it
+  constexpr int kCullBlock = 8, kMaxCullBlocks = 8;  // (tiles up to 64 pixels wide)
+  const int tile = myTiles_[tileSlot];
+  const int tx0 = (tile % tilesX_) * ts_, ty0 = (tile / tilesX_) * ts_;
+  const int tx1 = std::min(w_, tx0 + ts_), ty1 = std::min(h_, ty0 + ts_);
+  const bool cull = s_.blockCulling && n == 1 && !progressive_ && !scene_.features().volumes &&
+                    ts_ <= kCullBlock * kMaxCullBlocks;
+  uint8_t blockState[kMaxCullBlocks][kMaxCullBlocks] = {};
+  auto blockCulled = [&](int px, int py) {
+    const int bx = (px - tx0) / kCullBlock, by = (py - ty0) / kCullBlock;
+    uint8_t& state = blockState[by][bx];
+    if (state == 0) {
+      const int x0 = tx0 + bx * kCullBlock, y0 = ty0 + by * kCullBlock;
+      const Frustum f = camera_.pixelBlockFrustum(x0, y0, std::min(tx1, x0 + kCullBlock), std::min(ty1, y0 + kCullBlock),
+                                                  w_, h_);
+      state = scene_.frustumMayHit(f) ? 1 : 2;
+    }
+    return state == 2;
+  };
+  uint64_t culled = 0;
   auto flush = [&] {
+    bool skip = cull;
+    for (int k = 0; k < np && skip; ++k) skip = blockCulled(pending[k].px, pending[k].py);
     Ray rays[kBlock];
-    for (int k = 0; k < np; ++k) {
+    for (int k = 0; k < np && !skip; ++k) {
       const Vec2 p = stratifiedSamplePos(pending[k].px, pending[k].py, 0, 1);
       if (pending[k].py != termRow) {
         termRow = pending[k].py;
@@ -207,7 +230,14 @@ void FrameJob::tracePixels(int tileSlot, int n, bool refineOnly) {
     } else {
       RayStats stats[kBlock];
       Sample smp[kBlock];
-      integ_.traceBlock(rays, np, stats, bg, smp, &misses);
+      if (skip) {
+        // Nothing in reach: the misses tracing would find (with their camera rays counted, no nodes visited)
+        misses = (1u << np) - 1u;
+        for (int k = 0; k < np; ++k) ++stats[k].primary;
+        culled += unsigned(np);
+      } else {
+        integ_.traceBlock(rays, np, stats, bg, smp, &misses);
+      }
       for (int k = 0; k < np; ++k) {
         st += stats[k];
         if (misses >> k & 1) {
@@ -253,6 +283,7 @@ void FrameJob::tracePixels(int tileSlot, int n, bool refineOnly) {
   if (!refineOnly) tileDone_[std::size_t(tileSlot)] = 1;
   samples_ += samples;
   supersampled_ += refined;
+  culled_ += culled;
 }
 
 void FrameJob::restorePixels() {

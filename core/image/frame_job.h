@@ -156,7 +156,7 @@ class FrameJob {
   std::vector<std::unique_ptr<Integrator>> levels_;  ///< Loosening levels 1.. (progressive refinement).
   std::unique_ptr<Integrator> coarse_;               ///< Level -1 (see makeCoarse); may be null.
   RefineMeasures measures_;                          ///< What refinement measured so far (see RefineMeasures).
-  std::atomic<uint64_t> samples_{0}, supersampled_{0}, retraced_{0};
+  std::atomic<uint64_t> samples_{0}, supersampled_{0}, retraced_{0}, culled_{0};
 };
 
 }  // namespace whitted

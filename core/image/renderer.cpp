@@ -102,6 +102,7 @@ FrameStats FrameJob::run() {
   fs.samples = keep ? keep->samples : samples_.load();
   fs.samplesRetraced = retraced_.load();
   fs.pixelsSupersampled = supersampled_.load();
+  fs.pixelsCulled = culled_.load();
   fs.longestTileSeconds = tiles_.longestTileSeconds();
   fs.aborted = tiles_.aborted();
   fs.kernelReflection = integ_.usesReflection();

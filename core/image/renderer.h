@@ -84,6 +84,10 @@ struct RenderSettings {
   float adaptiveThreshold = 2.0f / 255.0f;
   int threads = 0;    ///< Worker threads; 0 = hardwareThreads() (all usable cores). Default 0.
   int tileSize = 16;  ///< Tile edge in pixels. Default 16.
+  /// Camera rays of one-sample pixels (1 spp, adaptive mode's first pass) skip tracing in 8x8 blocks whose frustum
+  /// misses every leaf box of the scene (Scene::frustumMayHit); the image is the same, bit for bit. Off: every
+  /// camera ray is traced (tests compare the two). Not with volumes or progressive frames.
+  bool blockCulling = true;
   /// Pixel split between processes: this process traces tiles with index % tileStride == tileOffset, and writes
   /// depth 1 / alpha 0 elsewhere (for sort-last compositing). Default 1/0 = everything.
   int tileStride = 1;
@@ -139,6 +143,9 @@ struct FrameStats {
   RayStats rays;
   uint64_t samples = 0;             ///< Camera samples taken.
   uint64_t pixelsSupersampled = 0;  ///< Adaptive mode: pixels that got the full sample count.
+  /// One-sample pixels whose camera ray was not traced: the frustum of their 8x8 block misses every leaf box of the
+  /// scene (RenderSettings::blockCulling); written as misses, exactly as traced misses are.
+  uint64_t pixelsCulled = 0;
   /// Progressive refinement: samples traced again at a looser depth and threshold (they replace samples counted
   /// in samples, so the per-pixel counts of FrameBuffer::samples sum to samples).
   uint64_t samplesRetraced = 0;

@@ -277,6 +277,10 @@ class Scene {
 
   /// Surface data of a hit.
   SurfacePoint surface(const Ray& ray, const Hit& hit) const;
+  /// False when no ray inside frustum f can hit anything: every leaf box of the top level, and of the objects of
+  /// identity instances, lies outside f (Frustum::excludes); true otherwise (conservative: an instance with a
+  /// transform counts by its world box, a scene with volumes is always true). The camera's tile culling.
+  bool frustumMayHit(const Frustum& f) const;
   /// Distance, in world units across the ray, from the hit point p to the nearest drawn edge of the hit triangle
   /// (TriangleMesh::edgeFlags; see edgeDistance in edges.h); infinity for spheres and tubes.
   double edgeDistance(const Ray& ray, const Hit& hit, const Vec3& p) const;

@@ -353,6 +353,22 @@ Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes, bool* 
   return atten;
 }
 
+bool Scene::frustumMayHit(const Frustum& f) const {
+  if (!f.valid || features_.volumes) return true;
+  auto mayEnter = [&](const Bounds3& b) { return !f.excludes(b); };
+  auto instance = [&](uint32_t id) {
+    const Instance& in = instances_[id];
+    if (!in.identity) return true;  // (its world box passed: counted as a hit)
+    return objects_[in.object].bvh.anyLeaf(mayEnter, [](uint32_t, uint32_t) { return true; });
+  };
+  if (topInstances_.size() == 1) return instance(topInstances_[0]);
+  return top_.anyLeaf(mayEnter, [&](uint32_t first, uint32_t count) {
+    for (uint32_t s = first; s < first + count; ++s)
+      if (instance(topInstances_[s])) return true;
+    return false;
+  });
+}
+
 SurfacePoint Scene::surface(const Ray& ray, const Hit& hit) const {
   const Instance& in = instances_[hit.instance];
   const Object& o = objects_[in.object];

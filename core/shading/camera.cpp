@@ -59,6 +59,27 @@ Ray Camera::rayNdcRow(double x, const Vec4& row) const {
   return r;
 }
 
+Frustum Camera::pixelBlockFrustum(double x0, double y0, double x1, double y1, int width, int height) const {
+  Frustum f;
+  const Ray r[4] = {rayPixel(x0, y0, width, height), rayPixel(x1, y0, width, height),
+                    rayPixel(x1, y1, width, height), rayPixel(x0, y1, width, height)};
+  const Ray centre = rayPixel(0.5 * (x0 + x1), 0.5 * (y0 + y1), width, height);
+  const Vec3 inside = centre.origin + centre.dir;
+  for (int k = 0; k < 4; ++k) {
+    const Ray &a = r[k], &b = r[(k + 1) % 4];
+    // The plane through ray a's line and a point of ray b's line (both through the eye, or parallel)
+    Vec3 n = glm::cross(a.dir, (b.origin + b.dir) - a.origin);
+    const double side = glm::dot(n, inside - a.origin);
+    const double scale = glm::length(n) * glm::length(inside - a.origin);
+    if (!(std::abs(side) > 1e-9 * scale) || !isFinite(n)) return f;  // degenerate: excludes nothing
+    if (side < 0.0) n = -n;
+    f.point[k] = a.origin;
+    f.normal[k] = n;
+  }
+  f.valid = true;
+  return f;
+}
+
 double Camera::glDepth(const Vec3& world) const {
   // Rows z and w of worldToClip_ * (world, 1), summed in glm's order (same bits, half the work)
   const Mat4& m = worldToClip_;

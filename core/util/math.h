@@ -126,6 +126,33 @@ struct Bounds3 {
 };
 
 /// v / |v|, or fallback when v is zero or not finite.
+/// The region swept by the lines of a bundle of rays through a screen rectangle (a pinhole or parallel camera): four
+/// side planes, each through one edge of the rectangle's rays. A point p is inside plane k when
+/// dot(normal[k], p - point[k]) >= 0. Built by Camera::pixelBlockFrustum; valid false when it could not be (then
+/// it excludes nothing).
+struct Frustum {
+  Vec3 point[4]{}, normal[4]{};
+  bool valid = false;
+  /// Whether box b lies wholly outside one of the planes by more than a margin of 1e-6 relative (the float
+  /// rounding of the rays' directions is about 1e-16 relative): then no ray of the bundle can meet anything in b.
+  /// Conservative: NaN or infinite values never exclude.
+  bool excludes(const Bounds3& b) const {
+    if (!valid) return false;
+    for (int k = 0; k < 4; ++k) {
+      const Vec3& n = normal[k];
+      const Vec3 lo = b.lo - point[k], hi = b.hi - point[k];
+      // The box corner farthest inside the plane
+      const double far = (n.x > 0.0 ? n.x * hi.x : n.x * lo.x) + (n.y > 0.0 ? n.y * hi.y : n.y * lo.y) +
+                         (n.z > 0.0 ? n.z * hi.z : n.z * lo.z);
+      const Vec3 reach = glm::max(glm::abs(lo), glm::abs(hi));
+      const double margin = 1e-6 * (std::abs(n.x) + std::abs(n.y) + std::abs(n.z)) *
+                            std::max(reach.x, std::max(reach.y, reach.z));
+      if (far < -margin) return true;
+    }
+    return false;
+  }
+};
+
 inline Vec3 safeNormalize(const Vec3& v, const Vec3& fallback) {
   double l = glm::length(v);
   return (l > 0.0 && std::isfinite(l)) ? v / l : fallback;
