@@ -32,7 +32,7 @@ std::string frameReport(const FrameStats& f, const SceneStats& s, const CommitSt
       "\n"
       "  rays             primary %llu, shadow %llu, reflection %llu, refraction %llu (%.2f Mrays/s)\n"
       "  rays saved       %llu below contribution threshold, %llu at depth cap; %llu bound rays (first hit of "
-      "cut rays, for the truncation bound)\n"
+      "cut rays, for the truncation bound); %llu camera rays in 8x8 blocks whose frustum meets nothing (misses, not traced)\n"
       "  kernel           reflection %s, refraction %s, shadows %s\n"
       "  scene            %zu triangles, %zu spheres, %zu tubes, %zu objects, %zu instances, %zu invalid skipped\n"
       "  memory           BVH %zu nodes, %.2f MiB; geometry %.2f MiB\n"
@@ -43,7 +43,7 @@ std::string frameReport(const FrameStats& f, const SceneStats& s, const CommitSt
       "TargetError compares)\n",
       (unsigned long long)f.rays.primary, (unsigned long long)f.rays.shadow, (unsigned long long)f.rays.reflection,
       (unsigned long long)f.rays.refraction, mrays, (unsigned long long)f.rays.savedByThreshold,
-      (unsigned long long)f.rays.savedByDepth, (unsigned long long)f.rays.boundRays, f.kernelReflection ? "on" : "off", f.kernelRefraction ? "on" : "off",
+      (unsigned long long)f.rays.savedByDepth, (unsigned long long)f.rays.boundRays, (unsigned long long)f.pixelsCulled, f.kernelReflection ? "on" : "off", f.kernelRefraction ? "on" : "off",
       f.kernelShadows ? "on" : "off", s.triangles, s.spheres, s.tubes, s.objects, s.instances, c.invalidPrimitives,
       s.bvhNodes, s.bvhBytes / 1048576.0, s.geometryBytes / 1048576.0, f.truncation.rms, f.truncation.p95,
       f.truncation.max, f.sampling.rms, f.sampling.p95, f.sampling.max, f.total.rms, f.calibrated.rms,
