@@ -163,8 +163,8 @@ class Bvh {
   Bounds3 childBounds(const BvhWideNode& n, int c) const {
     Bounds3 b;
     for (int k = 0; k < 3; ++k) {
-      b.lo[k] = std::nextafter(double(n.b[k][c]) + anchor_[k], -kInfinity);
-      b.hi[k] = std::nextafter(double(n.b[3 + k][c]) + anchor_[k], kInfinity);
+      b.lo[k] = nextDown(double(n.b[k][c]) + anchor_[k]);  // (nextafter's step, inline: no libm call)
+      b.hi[k] = nextUp(double(n.b[3 + k][c]) + anchor_[k]);
     }
     return b;
   }
