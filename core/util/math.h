@@ -144,6 +144,7 @@ struct Frustum {
       // The box corner farthest inside the plane
       const double far = (n.x > 0.0 ? n.x * hi.x : n.x * lo.x) + (n.y > 0.0 ? n.y * hi.y : n.y * lo.y) +
                          (n.z > 0.0 ? n.z * hi.z : n.z * lo.z);
+      if (!(far < 0.0)) continue;  // (the margin only matters for a box outside: most boxes met are not)
       const Vec3 reach = glm::max(glm::abs(lo), glm::abs(hi));
       const double margin = 1e-6 * (std::abs(n.x) + std::abs(n.y) + std::abs(n.z)) *
                             std::max(reach.x, std::max(reach.y, reach.z));
