@@ -268,6 +268,23 @@ void FrameJob::tracePixels(int tileSlot, int n, bool refineOnly) {
   forTilePixels(tileSlot, [&](int px, int py, std::size_t idx, const Color& rowBackground) {
     if (refineOnly && !marks_[idx]) return;
     if (n == 1) {
+      // A pixel of a culled block (block culling): the miss written at once, as flush() writes a clean miss (the
+      // same pixel value and counts), without the pending run; a miss that trips a safety net takes flush()'s path
+      if (cull && blockCulled(px, py)) {
+        if (!missKnown || !(rowBackground == missBackground)) {
+          missBackground = rowBackground;
+          missClean = missPixel(rowBackground, missValue);
+          missKnown = true;
+        }
+        if (missClean) {
+          ++st.primary;
+          ++culled;
+          samples += n;
+          if (refineOnly) ++refined;
+          storePixel(idx, missValue);
+          return;
+        }
+      }
       pending[np] = Pending{idx, px, py};
       sums[np] = PixelSums{};
       bg[np] = rowBackground;
