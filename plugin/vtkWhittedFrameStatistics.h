@@ -187,8 +187,9 @@ public:
    * at the pass's RefinementRoundsPerFrame (progressive display: render again to continue) or was
    * aborted. RefinementExhausted: it is over because nothing was left to refine (every pixel whose
    * estimate is not zero has the most samples a still frame takes): how a refinement without a
-   * TargetError ends before its TimeBudget is spent. With progressive display the samples, rounds and RefinementSeconds (tracing seconds,
-   * what TimeBudget counts) are those of the whole refinement so far, over all its frames.
+   * TargetError ends before its TimeBudget is spent. With progressive display the samples, rounds
+   * and RefinementSeconds (tracing seconds, what TimeBudget counts) are those of the whole
+   * refinement so far, over all its frames.
    */
   vtkGetMacro(NumberOfSamples, vtkTypeUInt64);
   vtkGetMacro(RefinementRounds, int);

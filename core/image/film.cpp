@@ -191,8 +191,18 @@ void FrameJob::tracePixels(int tileSlot, int n, bool refineOnly) {
   bool missKnown = false, missClean = false;
   int termRow = -1;  // the row of rowTerm (camera rays by rows: Camera::rayPixelRow)
   Vec4 rowTerm(0.0);
+  // A miss's pixel for this row background: whether it trips no safety net (then missValue is it), computed once
+  // per background
+  auto cleanMiss = [&](const Color& background) {
+    if (!missKnown || !(background == missBackground)) {
+      missBackground = background;
+      missClean = missPixel(background, missValue);
+      missKnown = true;
+    }
+    return missClean;
+  };
   // Block culling (RenderSettings::blockCulling): per 8x8 block of the tile, whether its frustum can meet anything
-  // (0 not known yet, 1 yes, 2 no), found when a pending run of pixels first needs it
+  // (0 not known yet, 1 yes, 2 no), found when one of its pixels first needs it
   constexpr int kCullBlock = 8, kMaxCullBlocks = 8;  // (tiles up to 64 pixels wide)
   const int tile = myTiles_[tileSlot];
   const int tx0 = (tile % tilesX_) * ts_, ty0 = (tile / tilesX_) * ts_;
@@ -213,10 +223,8 @@ void FrameJob::tracePixels(int tileSlot, int n, bool refineOnly) {
   };
   uint64_t culled = 0;
   auto flush = [&] {
-    bool skip = cull;
-    for (int k = 0; k < np && skip; ++k) skip = blockCulled(pending[k].px, pending[k].py);
     Ray rays[kBlock];
-    for (int k = 0; k < np && !skip; ++k) {
+    for (int k = 0; k < np; ++k) {
       const Vec2 p = stratifiedSamplePos(pending[k].px, pending[k].py, 0, 1);
       if (pending[k].py != termRow) {
         termRow = pending[k].py;
@@ -230,23 +238,11 @@ void FrameJob::tracePixels(int tileSlot, int n, bool refineOnly) {
     } else {
       RayStats stats[kBlock];
       Sample smp[kBlock];
-      if (skip) {
-        // Nothing in reach: the misses tracing would find (with their camera rays counted, no nodes visited)
-        misses = (1u << np) - 1u;
-        for (int k = 0; k < np; ++k) ++stats[k].primary;
-        culled += unsigned(np);
-      } else {
-        integ_.traceBlock(rays, np, stats, bg, smp, &misses);
-      }
+      integ_.traceBlock(rays, np, stats, bg, smp, &misses);
       for (int k = 0; k < np; ++k) {
         st += stats[k];
         if (misses >> k & 1) {
-          if (!missKnown || !(bg[k] == missBackground)) {
-            missBackground = bg[k];
-            missClean = missPixel(bg[k], missValue);
-            missKnown = true;
-          }
-          if (missClean) {
+          if (cleanMiss(bg[k])) {
             samples += n;
             if (refineOnly) ++refined;
             storePixel(pending[k].idx, missValue);
@@ -268,22 +264,16 @@ void FrameJob::tracePixels(int tileSlot, int n, bool refineOnly) {
   forTilePixels(tileSlot, [&](int px, int py, std::size_t idx, const Color& rowBackground) {
     if (refineOnly && !marks_[idx]) return;
     if (n == 1) {
-      // A pixel of a culled block (block culling): the miss written at once, as flush() writes a clean miss (the
-      // same pixel value and counts), without the pending run; a miss that trips a safety net takes flush()'s path
-      if (cull && blockCulled(px, py)) {
-        if (!missKnown || !(rowBackground == missBackground)) {
-          missBackground = rowBackground;
-          missClean = missPixel(rowBackground, missValue);
-          missKnown = true;
-        }
-        if (missClean) {
-          ++st.primary;
-          ++culled;
-          samples += n;
-          if (refineOnly) ++refined;
-          storePixel(idx, missValue);
-          return;
-        }
+      // A pixel of a culled block (block culling): not traced, its miss written at once, as flush() writes a clean
+      // miss (the same pixel value and counts, no node visited); a miss that would trip a safety net is traced
+      // (it finds the same miss) and goes through flush()'s path
+      if (cull && blockCulled(px, py) && cleanMiss(rowBackground)) {
+        ++st.primary;
+        ++culled;
+        samples += n;
+        if (refineOnly) ++refined;
+        storePixel(idx, missValue);
+        return;
       }
       pending[np] = Pending{idx, px, py};
       sums[np] = PixelSums{};

@@ -28,10 +28,10 @@ class Camera {
   /// tMax at the far plane.
   Ray rayNdc(double x, double y) const;
 
-  /// Ray through a point of a width x height image, in continuous pixel coordinates.
   /// The frustum of every ray rayPixel / rayPixelRow gives for points of the pixel rectangle [x0, x1] x [y0, y1]
   /// (pixel units, image width x height): its four side planes through the corner rays (see Frustum).
   Frustum pixelBlockFrustum(double x0, double y0, double x1, double y1, int width, int height) const;
+  /// Ray through a point of a width x height image, in continuous pixel coordinates.
   Ray rayPixel(double px, double py, int width, int height) const {
     return rayNdc(2.0 * px / width - 1.0, 2.0 * py / height - 1.0);
   }

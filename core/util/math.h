@@ -125,7 +125,6 @@ struct Bounds3 {
   }
 };
 
-/// v / |v|, or fallback when v is zero or not finite.
 /// The region swept by the lines of a bundle of rays through a screen rectangle (a pinhole or parallel camera): four
 /// side planes, each through one edge of the rectangle's rays. A point p is inside plane k when
 /// dot(normal[k], p - point[k]) >= 0. Built by Camera::pixelBlockFrustum; valid false when it could not be (then
@@ -154,6 +153,7 @@ struct Frustum {
   }
 };
 
+/// v / |v|, or fallback when v is zero or not finite.
 inline Vec3 safeNormalize(const Vec3& v, const Vec3& fallback) {
   double l = glm::length(v);
   return (l > 0.0 && std::isfinite(l)) ? v / l : fallback;
