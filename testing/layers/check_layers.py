@@ -5,12 +5,13 @@ core/ is in folders by pipeline stage, each a layer that uses only the layers be
     util <- geometry <- accel <- scene <- shading <- image <- scenes <- apps
 Tests (*_test.cpp) sit beside the code they test and may include any core layer. core/ never includes plugin/
 or VTK; the VTK module (plugin/*) never includes the ParaView classes (plugin/paraview/, vtkPV*, vtkSM*).
+Files stay small enough to read: no core file above 450 lines, no plugin file above 600.
 
 Usage: check_layers.py [ROOT]   (ROOT: the source tree, default: two folders up from this script)
 Exit status 0 if every include respects the layers, 1 (with one line per violation) otherwise.
 check_layers.py --self-test: the negative control: a copy of ROOT's core/ and plugin/ with one deliberate upward
-include each (util including image, core including VTK, the VTK module including a ParaView class) must fail with
-exactly those violations, and the unmodified copy must pass.
+include each (util including image, core including VTK, the VTK module including a ParaView class) and one core
+file grown past its limit must fail with exactly those violations, and the unmodified copy must pass.
 """
 import os
 import re
@@ -20,6 +21,7 @@ import tempfile
 
 LAYERS = ["util", "geometry", "accel", "scene", "shading", "image", "scenes", "apps"]
 SOURCE = (".h", ".hpp", ".cpp", ".cxx", ".cc")
+MAX_LINES = {"core": 450, "plugin": 600}
 INCLUDE = re.compile(r'^\s*#\s*include\s*([<"])([^>"]+)[>"]', re.M)
 
 
@@ -30,8 +32,20 @@ def sources(folder):
                 yield os.path.join(dirpath, name)
 
 
-def check(root):
+def too_long(root):
     bad = []
+    for folder, limit in MAX_LINES.items():
+        for path in sources(os.path.join(root, folder)):
+            with open(path, encoding="utf-8", errors="replace") as f:
+                lines = sum(1 for _ in f)
+            if lines > limit:
+                rel = os.path.relpath(path, root).replace(os.sep, "/")
+                bad.append("%s has %d lines: no %s file above %d" % (rel, lines, folder, limit))
+    return bad
+
+
+def check(root):
+    bad = too_long(root)
     core = os.path.join(root, "core")
     plugin = os.path.join(root, "plugin")
     for path in sources(core):
@@ -75,16 +89,18 @@ def self_test(root):
             os.path.join(tmp, "core", "util", "math.h"): '#include "image/renderer.h"\n',
             os.path.join(tmp, "core", "scene", "scene.cpp"): '#include "vtkObject.h"\n',
             os.path.join(tmp, "plugin", "vtkWhittedPass.cxx"): '#include "vtkPVRenderView.h"\n',
+            os.path.join(tmp, "core", "image", "film.cpp"): "\n" * (MAX_LINES["core"] + 1),
         }
         for path, line in planted.items():
             with open(path, "a") as f:
                 f.write(line)
         broken = check(tmp)
-    print("self-test: unmodified copy %d violations; with 3 planted includes %d:" % (len(clean), len(broken)))
+    print("self-test: unmodified copy %d violations; with 3 planted includes and a long file %d:" %
+          (len(clean), len(broken)))
     for line in broken:
         print("  " + line)
-    ok = not clean and len(broken) == 3 and "util/math.h includes image/renderer.h" in broken[0] + broken[1] + \
-        broken[2]
+    ok = not clean and len(broken) == 4 and "util/math.h includes image/renderer.h" in "".join(broken) and \
+        "core/image/film.cpp has" in "".join(broken)
     print("check_layers self-test: %s" % ("ok" if ok else "FAILED"))
     return 0 if ok else 1
 
