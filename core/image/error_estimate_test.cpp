@@ -247,6 +247,45 @@ TEST(ErrorEstimate, RelativeToleranceBoundsManySmallCharges) {
   EXPECT_GT(abs.truncation.rms, 2.5 * measuredRms);
 }
 
+// The adaptive lookahead's bound rays per cut ray are capped (truncationBoundRays): a cut ray whose levels branch
+// at every hit (nested glass: each surface reflects and refracts) would otherwise trace up to 2^16 of them. Nested
+// glass at depth 1 with a tolerance of 1e-6 (so every branch is followed to 16 levels while its charge is above it):
+// without the cap, 192 bound rays per cut ray on average (up to thousands); with a cap of 64 each cut ray traces at most 64 plus
+// the shadow rays of its hits, the capped cut rays are counted, the bound is still never under the measured error at
+// any pixel, never below the uncapped one, and the image is the same.
+TEST(ErrorEstimate, BoundRaysPerCutRayAreCapped) {
+  const int w = 32, h = 24;
+  Truncated t(buildNestedGlassScene, w, h);
+  RenderSettings rs;
+  rs.integrator.maxDepth = 1;
+  rs.integrator.contributionThreshold = 0.0f;
+  rs.integrator.truncationTolerance = 1e-6f;
+  rs.integrator.truncationBoundRays = 1 << 30;
+  FrameBuffer freeFb, cappedFb;
+  const FrameStats uncapped = render(t.scene, t.cam, rs, w, h, freeFb);
+  const int cap = 64;
+  rs.integrator.truncationBoundRays = cap;
+  const FrameStats capped = render(t.scene, t.cam, rs, w, h, cappedFb);
+  const uint64_t cut = capped.rays.savedByDepth + capped.rays.savedByThreshold;
+  ASSERT_EQ(cut, uncapped.rays.savedByDepth + uncapped.rays.savedByThreshold);
+  ASSERT_GT(cut, 0u);
+  std::printf("nested glass depth 1, tolerance 1e-6: %llu cut rays; bound rays %llu uncapped (%.0f per cut ray), "
+              "%llu with a cap of %d (%.1f per cut ray, %llu cut rays capped)\n",
+              (unsigned long long)cut, (unsigned long long)uncapped.rays.boundRays,
+              double(uncapped.rays.boundRays) / double(cut), (unsigned long long)capped.rays.boundRays, cap,
+              double(capped.rays.boundRays) / double(cut), (unsigned long long)capped.rays.boundRaysCapped);
+  EXPECT_EQ(uncapped.rays.boundRaysCapped, 0u);
+  EXPECT_GT(uncapped.rays.boundRays, 2 * cap * cut);  // the scene branches past the cap (on average)
+  EXPECT_GT(capped.rays.boundRaysCapped, 0u);
+  const uint64_t lights = t.scene.lights().size();
+  EXPECT_LE(capped.rays.boundRays, cut * (cap + 2) * (1 + lights));  // cap + the last level's pair, + shadow rays
+  EXPECT_EQ(t.check(cappedFb, 1e-6f).under, 0);
+  for (std::size_t i = 0; i < cappedFb.color.size(); ++i) {
+    ASSERT_EQ(cappedFb.color[i], freeFb.color[i]) << i;
+    ASSERT_GE(cappedFb.truncation[i], freeFb.truncation[i]) << i;
+  }
+}
+
 // Light cut from shadow rays: with depth 16 no ray is cut by depth in the light-in-glass scene, and with
 // reflections and refractions off no secondary ray exists, so only the shadow rays' cut (transmittance 0.1225
 // below the threshold 0.2) is left out, and the bound must cover it.

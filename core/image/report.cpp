@@ -49,6 +49,13 @@ std::string frameReport(const FrameStats& f, const SceneStats& s, const CommitSt
       f.truncation.max, f.sampling.rms, f.sampling.p95, f.sampling.max, f.total.rms, f.calibrated.rms,
       f.calibratedSampling.rms);
   out.append(buf, std::size_t(n));
+  if (f.rays.boundRaysCapped > 0) {
+    n = std::snprintf(buf, sizeof buf,
+                      "                   %llu cut rays reached the cap of bound rays per cut ray (charged the "
+                      "scene-wide bound for the levels left)\n",
+                      (unsigned long long)f.rays.boundRaysCapped);
+    out.append(buf, std::size_t(n));
+  }
   // Safety nets: what they caught is counted, never silently hidden (all zero for valid input)
   n = std::snprintf(buf, sizeof buf,
                     "  safety nets      %llu non-finite samples, %llu non-finite pixels, %llu alpha and %llu depth "

@@ -322,6 +322,8 @@ Color Integrator::radiance(const Ray& ray, int depth, Color weight, bool straigh
           return;
         }
         double t = kInfinity;
+        ps.boundRaysLeft = s_.truncationBoundRays;
+        ps.boundRaysCapped = false;
         Color bound = cutRayBound<Reflect, Refract>(r, depth + 1, s_.truncationLookahead, extraLevels_, w, rayStraight,
                                                     pathHere, st, ps, &t, kCutRay);
         // Bound rays find the first hit only; volumes on the way emit at most 1 - T and let T of the rest through

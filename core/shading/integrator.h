@@ -55,6 +55,11 @@ struct IntegratorSettings {
   /// at most truncationLookahead, or truncationLookahead 0: fixed levels, unshadowed. Default 1/255 (8-bit step).
   float truncationTolerance = 1.0f / 255.0f;
   int truncationLookaheadMax = 16;  ///< Most levels of bound rays per cut ray with truncationTolerance. Default 16.
+  /// Most bound rays the adaptive lookahead traces per cut ray. A cut ray's levels branch in two wherever a hit
+  /// both reflects and refracts, so 16 levels could take 2^16 rays (a glass tube inside a mirror tube); once this
+  /// many are traced, the levels left are charged the scene-wide remaining bound (strict, looser), and
+  /// RayStats::boundRaysCapped counts the cut rays that reached it. Default 1024.
+  int truncationBoundRays = 1024;
   /// Adaptive lookahead for small charges: a cut ray's tolerance is min(truncationTolerance, this x the charge its
   /// first bound ray would leave: weight x (unshadowed local term + kr + kt times the remaining bound)). Where a
   /// frame's truncation is made of many charges under truncationTolerance (deep depths, light behind glass), the
@@ -91,6 +96,9 @@ struct RayStats {
   uint64_t nodesVisited = 0;
   /// Rays traced to the first hit only, to bound what a cut ray would have returned (truncationLookahead).
   uint64_t boundRays = 0;
+  /// Cut rays whose bound rays reached IntegratorSettings::truncationBoundRays (charged the scene-wide bound for
+  /// the levels left).
+  uint64_t boundRaysCapped = 0;
   uint64_t volumeSamples = 0;  ///< Volume samples taken (camera, secondary and shadow rays' marches).
   /// Rays whose volume march stopped early (early ray termination: the ray's weight times the transmittance fell
   /// below IntegratorSettings::contributionThreshold); what lies behind is charged to the truncation bound.
@@ -118,6 +126,7 @@ struct RayStats {
     savedByDepth += o.savedByDepth;
     nodesVisited += o.nodesVisited;
     boundRays += o.boundRays;
+    boundRaysCapped += o.boundRaysCapped;
     volumeSamples += o.volumeSamples;
     volumeTerminated += o.volumeTerminated;
     volumeInvalidSamples += o.volumeInvalidSamples;
@@ -135,7 +144,7 @@ struct RayStats {
   /// Every ray that walked the scene (traced rays and bound rays): what a sample cost.
   uint64_t traversals() const { return traced() + boundRays; }
 };
-static_assert(sizeof(RayStats) == 15 * sizeof(uint64_t), "RayStats::operator+= adds every field");
+static_assert(sizeof(RayStats) == 16 * sizeof(uint64_t), "RayStats::operator+= adds every field");
 
 /// Result of one camera ray.
 ///
@@ -263,6 +272,8 @@ class Integrator {
     Color screenBackground{0.0f};  ///< What straight escapes see (see Sample).
     double pathLength = 0.0;       ///< Length of the path up to the current ray's origin (edge footprints).
     float firstHitSlack = 0.0f;    ///< See Sample::firstHitSlack (set with the first hit).
+    int boundRaysLeft = 0;  ///< The current cut ray's bound rays left (IntegratorSettings::truncationBoundRays).
+    bool boundRaysCapped = false;  ///< The current cut ray reached truncationBoundRays (counted once).
   };
   using Kernel = Color (Integrator::*)(const Ray&, int, Color, bool, RayStats&, PathState&, double*, Vec3*,
                                        const FirstHit*) const;

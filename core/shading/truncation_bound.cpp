@@ -78,6 +78,7 @@ Color Integrator::cutRayBound(const Ray& ray, int depth, int levels, int extra, 
   // A ray the reference itself would not trace returns nothing (see remainingBound)
   if (!seriesConverges_ && depth > referenceDepth_) return Color(0.0f);
   ++st.boundRays;
+  --ps.boundRaysLeft;
   Hit hit;
   if (!scene_.intersect(ray, hit, &st.nodesVisited)) {
     // A miss returns exactly what radiance() returns for it (the straight escape's alpha is not colour)
@@ -121,6 +122,11 @@ Color Integrator::cutRayBound(const Ray& ray, int depth, int levels, int extra, 
     const float remaining = remainingBound(depth + 1);
     const float levelTol = maxComponent(k) <= 0.5f ? tol : std::max(tol, s_.truncationTolerance);
     if (extra <= 0 || !(maxComponent(weight * k) * remaining > levelTol)) return bound + k * remaining;
+    if (ps.boundRaysLeft <= 0) {  // the cut ray's bound rays are spent (truncationBoundRays): counted once
+      if (!ps.boundRaysCapped) ++st.boundRaysCapped;
+      ps.boundRaysCapped = true;
+      return bound + k * remaining;
+    }
     levels = 2;
     --extra;
   }
