@@ -1,0 +1,255 @@
+"""Independent checks of the GUI playback tests (paraview.gui, paraview.gui.selection).
+
+The playbacks (gui_whitted.xml.in, gui_selection.xml.in) build their scene with the GUI's menus, panels and mouse,
+then type one command into View > Python Shell: gui_oracle.main(kind, result), which checks the view the GUI made
+against ParaView's own Render View, made here with the same sources, colouring, light kit, background and camera,
+and writes "ok" or the failures to result (run_gui_test.py fails the test unless it reads "ok"). The playback's
+committed baseline stays beside it as a change guard.
+
+- "whitted": the Whitted view with its effects off (no shadows, reflections or refractions) equals the Render View's
+  raster on the pixels the Whitted Surface sphere does not cover and away from edges (RENDER_VIEW tolerance); with
+  its effects on, those pixels only darken (the sphere's shadow on the plane, which must be there).
+- "selection": the cells the rubber band selected in the Whitted view (the hardware selector) lie between the
+  Render View's selections with the same rectangle shrunk and grown by 2 pixels (rounding of the playback's
+  fractional mouse positions), and the highlighted image with effects off equals the Render View's raster of the
+  same selection away from edges.
+"""
+import os
+import traceback
+
+# The playback's rubber band, as fractions of the view (gui_selection.xml.in: press at 0.38, release at 0.62)
+BAND = (0.38, 0.62)
+# Pixels compared (geometry off edges): at least this many (else the oracle says little). Measured: 2190 (gui,
+# 300x300), 4-5 thousand (gui.selection, the GUI's view size)
+MIN_PIXELS = 1000
+
+
+def _copy_look(src_view, dst_view):
+    for prop in ("CameraPosition", "CameraFocalPoint", "CameraViewUp", "CameraViewAngle", "CameraParallelScale",
+                 "CameraParallelProjection", "OrientationAxesVisibility", "UseColorPaletteForBackground",
+                 "BackgroundColorMode", "Background", "Background2", "UseLight", "LightSwitch"):
+        try:
+            setattr(dst_view, prop, getattr(src_view, prop))
+        except (AttributeError, ValueError):
+            pass
+
+
+def _clone(src):
+    """A new source proxy with src's properties (the Render View shows clones, so that selecting there leaves the
+    GUI's sources and their selections untouched)."""
+    from paraview import servermanager
+
+    pxm = servermanager.ProxyManager()
+    smproxy = pxm.SMProxyManager.NewProxy(src.SMProxy.GetXMLGroup(), src.SMProxy.GetXMLName())
+    smproxy.Copy(src.SMProxy)
+    smproxy.UpdateVTKObjects()
+    clone = servermanager._getPyProxy(smproxy)
+    pxm.RegisterProxy("sources", "oracle_" + src.SMProxy.GetXMLName(), clone)
+    return clone
+
+
+def _render_view_of(view, size):
+    """A Render View in a layout of its own (the GUI renders a view only in a layout), showing clones of view's
+    shown sources with their colouring, and view's look. Returns (layout, view, {name: (clone, GUI display, Render
+    View display)}, {GUI source: clone})."""
+    from paraview.simple import AssignViewToLayout, CreateLayout, CreateView, GetDisplayProperties, GetSources, Show
+
+    layout = CreateLayout("oracle")
+    rv = CreateView("RenderView")
+    AssignViewToLayout(view=rv, layout=layout, hint=0)
+    rv.ViewSize = list(size)
+    rv.EnableRenderOnInteraction = 0
+    _copy_look(view, rv)
+    shown, clones = {}, {}
+    for (name, _), src in list(GetSources().items()):
+        wd = GetDisplayProperties(src, view=view)
+        if not wd.Visibility:
+            continue
+        clone = _clone(src)
+        rd = Show(clone, rv)
+        rd.Representation = "Surface"
+        rd.ColorArrayName = [wd.ColorArrayName.GetAssociation(), wd.ColorArrayName.GetArrayName()]
+        rd.LookupTable = wd.LookupTable
+        rd.DiffuseColor = wd.DiffuseColor
+        rd.AmbientColor = wd.AmbientColor
+        rd.Specular = wd.Specular
+        shown[name] = (clone, wd, rd)
+        clones[src] = clone
+    return layout, rv, shown, clones
+
+
+def _drop(layout, rv, clones):
+    from paraview.simple import Delete, RemoveLayout
+
+    RemoveLayout(layout)
+    Delete(rv)
+    for clone in clones.values():
+        Delete(clone)
+
+
+def _compared(pvt, rv, shown, raster, hidden, tmp):
+    """The pixels where raster shows geometry, off the sources in hidden (dilated by 2) and off colour edges:
+    background pixels would only dilute a wrong shading among pixels that cannot be wrong."""
+    import numpy as np
+    from paraview.simple import Hide, Show
+
+    for src in hidden:
+        Hide(src, rv)
+    without = pvt.screenshot(rv, os.path.join(tmp, "renderview_without.png"), raster.shape[1::-1])
+    for src, _, _ in shown.values():
+        Hide(src, rv)
+    empty = pvt.screenshot(rv, os.path.join(tmp, "renderview_empty.png"), raster.shape[1::-1])
+    for src, _, rd in shown.values():
+        Show(src, rv)
+    covered = pvt.dilate(np.abs(raster - without).max(axis=2) > 0, 2)
+    edges = pvt.silhouette_mask(raster) | pvt.silhouette_mask(without)
+    geometry = np.abs(raster - empty).max(axis=2) > 0
+    return geometry & ~(covered | edges)
+
+
+def _effects(view, on):
+    view.Shadows = int(on)
+    view.Reflections = int(on)
+    view.Refractions = int(on)
+
+
+def check_whitted(tmp, report):
+    import numpy as np
+    import whitted_pvtest as pvt
+    from paraview.simple import GetActiveView, SetActiveView
+
+    view = GetActiveView()
+    report(view.GetXMLName() == "WhittedRayTraceView", "the active view is a Whitted view (%s)" % view.GetXMLName())
+    size = (300, 300)
+    legends = _hide_legends(view)  # 2D annotations laid out for the GUI's view size: not the tracer's
+    on = pvt.screenshot(view, os.path.join(tmp, "gui_whitted_on.png"), size)
+    _effects(view, False)
+    off_png = os.path.join(tmp, "gui_whitted_off.png")
+    off = pvt.screenshot(view, off_png, size)
+    _effects(view, True)
+    layout, rv, shown, clones = _render_view_of(view, size)
+    raster_png = os.path.join(tmp, "gui_whitted_renderview.png")
+    raster = pvt.screenshot(rv, raster_png, size)
+    spheres = [src for (src, wd, _) in shown.values() if wd.Representation == "Whitted Surface"]
+    report(len(spheres) == 1 and len(shown) == 2, "the GUI showed a Whitted Surface and one more source (%d, %d)"
+           % (len(spheres), len(shown)))
+    compared = _compared(pvt, rv, shown, raster, spheres, tmp)
+    report(compared.sum() >= MIN_PIXELS, "%d pixels compared (the plane off the Whitted Surface and off edges)"
+           % compared.sum())
+    ok, bad = pvt.compare_image(off_png, raster_png, tmp, mask=compared, **pvt.RENDER_VIEW)
+    report(ok, "effects off: the Whitted view equals the Render View there (%.4f%% differ)" % (100 * bad))
+    lighter = int((np.where(compared, (on - off).max(axis=2), 0) > pvt.EFFECTS_LIGHTER).sum())
+    darker = int((np.where(compared, (off - on).max(axis=2), 0) > 8).sum())
+    report(lighter == 0, "effects on: no compared pixel lighter than with effects off (%d)" % lighter)
+    report(darker >= 100, "effects on: the sphere's shadow darkens compared pixels by more than 8/255 (%d)" % darker)
+    _drop(layout, rv, clones)
+    for bar in legends:
+        bar.Visibility = 1
+    SetActiveView(view)
+
+
+def _hide_legends(view):
+    """Hides the colour legends shown in view; returns them (to show them again)."""
+    bars = []
+    for proxy in view.Representations:
+        if proxy.GetXMLName() == "ScalarBarWidgetRepresentation" and proxy.Visibility:
+            proxy.Visibility = 0
+            bars.append(proxy)
+    return bars
+
+
+def _selected_cells(src):
+    """Original ids of the cells selected on src's first output (its selection input)."""
+    from paraview import servermanager
+    from paraview.simple import Delete, ExtractSelection
+    from vtkmodules.numpy_interface import dataset_adapter as dsa
+
+    sel = src.SMProxy.GetSelectionInput(0)
+    if sel is None:
+        return set()
+    ex = ExtractSelection(Input=src, Selection=servermanager._getPyProxy(sel))
+    data = servermanager.Fetch(ex)
+    Delete(ex)
+    ids = dsa.WrapDataObject(data).CellData["vtkOriginalCellIds"]
+    return set(int(i) for i in ids) if ids is not None and not isinstance(ids, dsa.VTKNoneArray) else set()
+
+
+def check_selection(tmp, report):
+    import whitted_pvtest as pvt
+    from paraview.simple import (ClearSelection, Delete, GetActiveSource, GetActiveView, IDSelectionSource,
+                                 SelectSurfaceCells, SetActiveSource, SetActiveView)
+
+    view = GetActiveView()
+    src = GetActiveSource()
+    report(view.GetXMLName() == "WhittedRayTraceView", "the active view is a Whitted view (%s)" % view.GetXMLName())
+    gui_cells = _selected_cells(src)
+    w, h = [int(x) for x in view.ViewSize]
+    size = (w, h)
+    # The Render View's selections (on the clone) with the rubber band's rectangle (pixels, origin bottom left),
+    # shrunk and grown
+    layout, rv, shown, clones = _render_view_of(view, size)
+    clone = clones[src]
+    pvt.screenshot(rv, os.path.join(tmp, "gui_selection_renderview_plain.png"), size)
+    bands = {}
+    for name, grow in (("inner", -2), ("outer", 2)):
+        rect = [int(round(BAND[0] * w)) - grow, int(round(BAND[0] * h)) - grow,
+                int(round(BAND[1] * w)) + grow, int(round(BAND[1] * h)) + grow]
+        SetActiveSource(clone)
+        SelectSurfaceCells(Rectangle=rect, View=rv)
+        bands[name] = _selected_cells(clone)
+        ClearSelection(clone)
+    inner, outer = bands["inner"], bands["outer"]
+    report(len(inner) >= 10, "the Render View selects cells in the band (%d inner, %d outer)" % (len(inner), len(outer)))
+    report(inner <= gui_cells <= outer, "the Whitted view selected %d cells, between the Render View's %d and %d "
+           "(missing %d, extra %d)" % (len(gui_cells), len(inner), len(outer), len(inner - gui_cells),
+                                        len(gui_cells - outer)))
+    # The GUI's cells selected on the clone too, highlighted in both views: effects off against the raster, away
+    # from edges
+    ids = IDSelectionSource(FieldType="CELL", IDs=[v for c in sorted(gui_cells) for v in (0, c)])
+    clone.SMProxy.SetSelectionInput(0, ids.SMProxy, 0)
+    raster_png = os.path.join(tmp, "gui_selection_renderview.png")
+    raster = pvt.screenshot(rv, raster_png, size)
+    _effects(view, False)
+    off_png = os.path.join(tmp, "gui_selection_off.png")
+    pvt.screenshot(view, off_png, size)
+    _effects(view, True)
+    compared = _compared(pvt, rv, shown, raster, [], tmp)
+    report(compared.sum() >= MIN_PIXELS, "%d pixels compared (the sphere off edges)" % compared.sum())
+    magenta = ((raster[:, :, 0] > 200) & (raster[:, :, 1] < 80) & (raster[:, :, 2] > 200) & compared).sum()
+    report(magenta >= 50, "the Render View draws the selection's highlight (%d pixels)" % magenta)
+    ok, bad = pvt.compare_image(off_png, raster_png, tmp, mask=compared, **pvt.RENDER_VIEW)
+    report(ok, "effects off: the highlighted Whitted view equals the Render View off edges (%.4f%% differ)"
+           % (100 * bad))
+    ClearSelection(clone)
+    Delete(ids)
+    _drop(layout, rv, clones)
+    SetActiveView(view)
+    SetActiveSource(src)
+
+
+def main(kind, result):
+    """Runs the checks of kind ("whitted" or "selection") and writes "ok" or the failures to result."""
+    failures, log = [], []
+
+    def report(ok, message):
+        log.append(("ok    " if ok else "FAIL  ") + message)
+        if not ok:
+            failures.append(message)
+
+    try:
+        perturb = int(os.environ.get("WHITTED_GUI_ORACLE_PERTURB", "0"))
+        if perturb:  # negative control: every 100th opaque traced pixel off by this many 8-bit steps
+            from paraview.simple import GetActiveView
+
+            GetActiveView().ShadingErrorForTesting = perturb
+            log.append("negative control: ShadingErrorForTesting %d" % perturb)
+        tmp = os.path.join(os.path.dirname(os.path.abspath(result)), "gui_oracle_" + kind)
+        os.makedirs(tmp, exist_ok=True)
+        {"whitted": check_whitted, "selection": check_selection}[kind](tmp, report)
+    except Exception:  # noqa: BLE001 - any error is a failure of the test, written where run_gui_test.py reads it
+        failures.append("exception:\n" + traceback.format_exc())
+    with open(result, "w") as f:  # the verdict first (run_gui_test.py reads it), then every check
+        f.write(("ok" if not failures else "FAILED: %d checks" % len(failures)) + "\n" + "\n".join(log) + "\n")
+        for failure in failures:
+            if failure.startswith("exception"):
+                f.write(failure + "\n")
