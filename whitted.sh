@@ -19,6 +19,11 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 BUILD="${WHITTED_BUILD_DIR:-$ROOT/build}"
 JOBS="$(nproc)"
 XVFB=(xvfb-run -a -s "-screen 0 1280x1024x24 -noreset")
+# For a second X server started at the same moment (the sanitizer suites beside the main one): free numbers from
+# 150 up, so the two never race for one number. A precaution: with several xvfb-run started together on this
+# machine (test loops beside a suite), 5 tests of a suite once failed with "bad X server connection" mid-run; the
+# mechanism was not pinned down, and CI had never shown it.
+XVFB2=(xvfb-run -n 150 -a -s "-screen 0 1280x1024x24 -noreset")
 
 # Debian 12 packages: the main job (render) needs VTK, the build tools and GLM; the tests need the rest
 PACKAGES_RENDER=(
@@ -150,9 +155,9 @@ cmd_test() {
     cd "$BUILD/asan" || exit 1
     export ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1
     s=0
-    "${XVFB[@]}" ctest --output-on-failure --timeout 900 -LE "python|benchmark|paraview|large|install|soak" \
+    "${XVFB2[@]}" ctest --output-on-failure --timeout 900 -LE "python|benchmark|paraview|large|install|soak" \
       >"$BUILD/test-asan.log" 2>&1 || s=1
-    "${XVFB[@]}" env LD_PRELOAD="$asan_rt" ctest --output-on-failure --timeout 900 -L python \
+    "${XVFB2[@]}" env LD_PRELOAD="$asan_rt" ctest --output-on-failure --timeout 900 -L python \
       >"$BUILD/test-asan-python.log" 2>&1 || s=1
     exit $s
   ) &
