@@ -9,7 +9,11 @@ when the sphere is hidden; "upper"/"lower" = its upper and lower thirds; "bg" = 
   every preset but None: the key light's highlight, a sphere pixel at least 60 above the brightest background or
       floor pixel seen through / in the sphere without the highlight (the same preset rendered with the view's
       light kit dimmed to 0: no light, no highlight) -- Glass and Mirror would otherwise not show at all
-  Glass: the highlight; the refracted floor shows upside down (the sphere's upper third brighter than its lower third)
+  Glass: the highlight; the refracted floor shows upside down (the sphere's upper third brighter than its lower third);
+      a rim brighter than the centre over the floor (Fresnel: at grazing incidence the ball mirrors the floor; measured
+      1.155); alone and without lights on the uniform background the ball vanishes (kr + kt = 1: reflection and
+      refraction see the same colour, an analytic value: 2 of 18155 pixels more than 2/255 off), which is why no
+      rim shows there
   Water: a blue-green tint: the sphere's upper third has a lower red/blue ratio than the background it refracts
   Gold, Copper: a warm tint: red/blue of the sphere's upper third (reflecting the bluish background) above 1.5
   Mirror, Chrome: the floor mirrored: the lower third (reflecting the floor) brighter than the upper third
@@ -85,6 +89,17 @@ for preset in ("Glass", "Water", "Mirror", "Chrome", "Gold", "Copper"):
     highlight = float(alone[preset][mask].max() - background.max())
     print("%-8s alone: brightest sphere pixel %.0f above the background" % (preset, highlight))
     check(highlight >= 60, "%s: the light kit's highlight (%.0f >= 60 above the background)" % (preset, highlight))
+# Why a glass ball shows no brighter rim there: with kr + kt = 1 and no absorption, Fresnel only moves weight between
+# the reflected and the refracted ray, and on a uniform background both see the same colour, so without the light
+# kit (no highlight) the ball must vanish: every sphere pixel equals the background (an analytic value)
+view.UseLight = 0
+unlit = render("Glass", "unlit")
+view.UseLight = 1
+off_bg = np.abs(unlit[mask] - background[mask]).max(axis=1)
+print("Glass alone without lights: sphere pixels off the background: max %.0f, %d of %d by more than 2" % (
+    off_bg.max(), int((off_bg > 2).sum()), int(mask.sum())))
+check(float((off_bg > 2).mean()) <= 0.001, "Glass alone without lights: the ball vanishes into the uniform "
+      "background (%d of %d pixels more than 2/255 off)" % (int((off_bg > 2).sum()), int(mask.sum())))
 Show(floor.Input, view)
 
 # Over the floor; each tint against the untinted preset of the same optics at the same pixels
@@ -103,6 +118,14 @@ def red_blue(img, region):
 check(over["Glass"][upper].mean() > over["Glass"][lower].mean(),
       "Glass: the refracted floor upside down (upper third %.1f > lower third %.1f)" % (
           over["Glass"][upper].mean(), over["Glass"][lower].mean()))
+# Over the floor the rim is brighter than the centre: at grazing incidence Fresnel reflects most of the light, and
+# there the ball mirrors the bright floor and its surroundings (rim: 0.85-0.97 of the radius; centre: within 0.5)
+yy, xx = np.mgrid[0:SIZE[1], 0:SIZE[0]]
+radial = np.hypot(yy - ys.mean(), xx - xs.mean()) / ((xs.max() - xs.min()) / 2.0)
+rim, centre = mask & (radial > 0.85) & (radial < 0.97), mask & (radial < 0.5)
+rim_ratio = over["Glass"][rim].mean() / over["Glass"][centre].mean()
+check(rim_ratio >= 1.08, "Glass over the floor: a brighter rim, rim/centre %.3f (>= 1.08; 1.000 without lights on a "
+      "uniform background, above)" % rim_ratio)
 tint = red_blue(over["Water"], inner) / red_blue(over["Glass"], inner)
 check(tint < 0.95, "Water: blue-green tint, red/blue %.3f x that of Glass (< 0.95)" % tint)
 for metal in ("Gold", "Copper"):
