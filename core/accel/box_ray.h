@@ -55,7 +55,9 @@ struct BoxRay {
     }
     return unsigned(_mm_movemask_ps(_mm_cmple_ps(t0, t1)));
   }
-  BoxRay(const Ray& r, const Vec3& anchor) {
+  BoxRay(const Ray& r, const Vec3& anchor) { set(r, anchor); }
+  /// Sets this ray up in place (a packet's lanes: no temporary of the whole struct to copy).
+  void set(const Ray& r, const Vec3& anchor) {
     // Power-of-two scale bringing the largest direction component into [1, 2) (exact, keeps t' in float range)
     // (exponent bits of the largest component; callers pass finite directions)
     const double m = std::max(std::abs(r.dir.x), std::max(std::abs(r.dir.y), std::abs(r.dir.z)));

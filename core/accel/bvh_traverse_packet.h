@@ -27,7 +27,7 @@ inline JointBoxRay Bvh::prepare(const Ray* rays, unsigned active, const double* 
   for (int i = 0; i < 4; ++i) {
     tMaxF[i] = 0.0f;
     if (!(active >> i & 1)) continue;
-    br[i] = BoxRay(rays[i], anchor_);
+    br[i].set(rays[i], anchor_);
     tMinV[i] = _mm_set1_ps(floatBelow(rays[i].tMin * br[i].tScale));
     tMaxF[i] = floatAbove((tMax ? tMax[i] : rays[i].tMax) * br[i].tScale);
     tMaxV[i] = _mm_set1_ps(tMaxF[i]);
