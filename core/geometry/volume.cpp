@@ -2,6 +2,8 @@
 #include "geometry/volume.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace whitted {
@@ -122,8 +124,80 @@ std::string Volume::prepare(std::size_t& invalidScalars) {
   step_ = std::max(step_, diagonal / kMaxSteps);
   if (!(std::isfinite(step_) && step_ > 0.0)) return "volume: no usable step (grid extent not finite)";
   buildTable();
+  buildMacroCells();
   ready_ = true;
   return std::string();
+}
+
+void Volume::buildMacroCells() {
+  const int* n = grid.dims;
+  if (macroMin_.empty()) {  // the scalar ranges: once per grid
+    for (int a = 0; a < 3; ++a) macroDims_[a] = std::max(1, (n[a] - 1 + kMacroCell - 1) / kMacroCell);
+    const std::size_t cells = std::size_t(macroDims_[0]) * macroDims_[1] * macroDims_[2];
+    macroMin_.assign(cells, std::numeric_limits<float>::infinity());
+    macroMax_.assign(cells, -std::numeric_limits<float>::infinity());
+    const float* sc = grid.scalars.data();
+    for (int cz = 0; cz < macroDims_[2]; ++cz)
+      for (int cy = 0; cy < macroDims_[1]; ++cy)
+        for (int cx = 0; cx < macroDims_[0]; ++cx) {
+          float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+          bool nan = false;
+          for (int k = cz * kMacroCell; k <= std::min((cz + 1) * kMacroCell, n[2] - 1); ++k)
+            for (int j = cy * kMacroCell; j <= std::min((cy + 1) * kMacroCell, n[1] - 1); ++j) {
+              const float* row = sc + (std::size_t(k) * n[1] + j) * n[0];
+              for (int i = cx * kMacroCell; i <= std::min((cx + 1) * kMacroCell, n[0] - 1); ++i) {
+                const float v = row[i];
+                nan |= std::isnan(v);
+                lo = std::min(lo, v);
+                hi = std::max(hi, v);
+              }
+            }
+          const std::size_t c = (std::size_t(cz) * macroDims_[1] + cy) * macroDims_[0] + cx;
+          macroMin_[c] = nan ? std::numeric_limits<float>::quiet_NaN() : lo;
+          macroMax_[c] = hi;
+        }
+  }
+  // Empty: no sample inside can have an opacity above 0 (NaN points are sampled, and counted). A constant cell's
+  // samples are that constant exactly (a + f (b - a) with a = b): the lookup the march would make decides. Else every
+  // table entry a sample in the range can interpolate between must have opacity 0, one entry more on each side for
+  // the rounding of the trilinear interpolation and of the entry index
+  macroEmpty_.assign(macroMin_.size(), 0);
+  const float last = float(table_.size() - 1);
+  for (std::size_t c = 0; c < macroMin_.size(); ++c) {
+    if (std::isnan(macroMin_[c])) continue;
+    if (macroMin_[c] == macroMax_[c]) {
+      macroEmpty_[c] = !(lookup(macroMin_[c]).opacity > 0.0f);
+      continue;
+    }
+    const float xa = (macroMin_[c] - tableMin_) * tableScale_, xb = (macroMax_[c] - tableMin_) * tableScale_;
+    if (!std::isfinite(xa) || !std::isfinite(xb)) continue;
+    const int j0 = int(std::clamp(std::floor(xa) - 1.0f, 0.0f, last));
+    const int j1 = int(std::clamp(std::ceil(xb) + 1.0f, 0.0f, last));
+    bool empty = true;
+    for (int j = j0; j <= j1 && empty; ++j) empty = table_[std::size_t(j)].opacity <= 0.0f;
+    macroEmpty_[c] = empty;
+  }
+}
+
+int64_t Volume::skipEmptyCell(const Vec3& o, const Vec3& d, const Vec3& p, double t0, double dt, int64_t k0) const {
+  // The ray leaves the cell through the far plane of one axis: in index space cell c spans [c K, (c + 1) K) (the
+  // first and last cells reach on outward, as the cell of a point is clamped)
+  double tExit = kInfinity;
+  for (int a = 0; a < 3; ++a) {
+    const int c = std::clamp(int(std::floor(p[a] / kMacroCell)), 0, macroDims_[a] - 1);
+    double plane;
+    if (d[a] > 0.0 && c + 1 < macroDims_[a])
+      plane = double(c + 1) * kMacroCell;
+    else if (d[a] < 0.0 && c > 0)
+      plane = double(c) * kMacroCell;
+    else
+      continue;
+    tExit = std::min(tExit, (plane - o[a]) / d[a]);
+  }
+  // Steps whose middle lies before the exit by more than a step stay inside (by far more than rounding): skipped;
+  // the march samples from the step before the first middle past the exit and looks again
+  const double k = std::ceil((tExit - t0) / dt - 0.5) - 1.0;
+  return k > double(k0 + 1) ? (k < 9e18 ? int64_t(k) : std::numeric_limits<int64_t>::max()) : k0 + 1;
 }
 
 void Volume::buildTable() {
@@ -224,12 +298,24 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
   if (!(count >= 1.0)) return;
   const int64_t steps = int64_t(std::min(count, 2.0 * kMaxSteps));
   const double perUnit = len / transfer.unitDistance;
+  const bool skip = skipEmptySpace && !macroEmpty_.empty();
   for (int64_t k = 0; k < steps; ++k) {
     const double ta = t0 + double(k) * dt;
     const bool full = k + 1 < steps && ta + dt <= t1;
     const double tb = full ? ta + dt : t1;
     if (!(tb > ta)) continue;
-    const float s = sampleIndex(o + (0.5 * (ta + tb)) * d);
+    const Vec3 p = o + (0.5 * (ta + tb)) * d;
+    if (skip) {
+      std::size_t c = 0;
+      for (int a = 2; a >= 0; --a)
+        c = c * std::size_t(macroDims_[a]) +
+            std::size_t(std::clamp(int(std::floor(p[a] / kMacroCell)), 0, macroDims_[a] - 1));
+      if (macroEmpty_[c]) {  // no sample here adds anything: on to the first that may be outside the cell
+        k = skipEmptyCell(o, d, p, t0, dt, k) - 1;
+        continue;
+      }
+    }
+    const float s = sampleIndex(p);
     ++acc.samples;
     if (std::isnan(s)) {
       ++acc.invalidSamples;

@@ -77,7 +77,13 @@ struct Volume {
   /// before the vtkVolume's matrix: the VTK converter sets the inverse of that matrix's linear part.
   Mat3 lengthMetric{1.0};
   bool visible = true;
+  /// Empty-space skipping: the march steps over macro cells (kMacroCell^3 grid cells) where no sample can have an
+  /// opacity above 0 (by the cells' scalar range and the transfer function), taking exactly the samples it would
+  /// take otherwise wherever they can add anything: the same colour and transmittance, bit for bit; fewer samples
+  /// counted. Off: every step is sampled (tests compare the two). Default on.
+  bool skipEmptySpace = true;
   static constexpr double kMaxSteps = 20000.0;
+  static constexpr int kMacroCell = 8;
 
   /// Checks and prepares the volume for marching (world bounds, index map, step; transfer functions sorted and
   /// clamped; infinite scalars made NaN). Returns an empty string if it can be traced, else why not (it is then
@@ -114,6 +120,16 @@ struct Volume {
   };
   std::vector<Entry> table_;
   float tableMin_ = 0.0f, tableScale_ = 0.0f;  ///< Entry index = (scalar - tableMin_) x tableScale_.
+  /// Macro cells, x fastest: the scalar range over each one's points (its kMacroCell^3 cells and the points on their
+  /// far faces, which trilinear samples inside read; NaN when a point is not finite), computed at the first prepare
+  /// (a new grid comes as a new Volume), and whether every sample inside has opacity 0 (per transfer function).
+  int macroDims_[3] = {0, 0, 0};
+  std::vector<float> macroMin_, macroMax_;
+  std::vector<uint8_t> macroEmpty_;
+  void buildMacroCells();
+  /// The k of the first step after k0 whose sample may lie outside the empty macro cell holding sample point p
+  /// (index space) of the march o + t d from t0 by dt: the march goes on from there.
+  int64_t skipEmptyCell(const Vec3& o, const Vec3& d, const Vec3& p, double t0, double dt, int64_t k0) const;
   void buildTable();
   Entry lookup(float s) const;
   float sampleIndex(const Vec3& index) const;  ///< sample() without the call

@@ -225,6 +225,44 @@ void buildGlassMirror(BenchScene& out) {
   out.camera.viewAngle = 45.0;
 }
 
+void buildVolume(BenchScene& out, int n, bool skip) {
+  // An n^3 grid over [-1, 1]^3: a Gaussian blob times a ripple (a wavelet-like field, 0..~280), opaque above 90 and
+  // transparent below (the corners and rim: empty space), over a mirror floor that shows it from below
+  const int dims[3] = {n, n, n};
+  std::vector<float> s(std::size_t(n) * n * n);
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double x = -1.0 + 2.0 * i / (n - 1), y = -1.0 + 2.0 * j / (n - 1), z = -1.0 + 2.0 * k / (n - 1);
+        const double blob = std::exp(-(x * x + y * y + z * z) / (2.0 * 0.32 * 0.32));
+        s[(std::size_t(k) * n + j) * n + i] =
+            float(255.0 * blob * (1.0 + 0.1 * std::sin(17.0 * x) * std::sin(13.0 * y) * std::cos(11.0 * z)));
+      }
+  Volume v;
+  v.grid = VolumeGrid::fromScalars(dims, s.data());
+  v.grid.origin = Vec3(-1.0);
+  v.grid.spacing = Vec3(2.0 / (n - 1));
+  v.transfer.opacityX = {0.0f, 90.0f, 180.0f, 280.0f};
+  v.transfer.opacityY = {0.0f, 0.0f, 0.05f, 0.2f};
+  v.transfer.colorX = {90.0f, 180.0f, 280.0f};
+  v.transfer.colorY = {Color(0.23f, 0.3f, 0.75f), Color(0.87f, 0.87f, 0.87f), Color(0.71f, 0.02f, 0.15f)};
+  v.transfer.unitDistance = 0.05;
+  v.skipEmptySpace = skip;
+  out.scene.addVolume(std::move(v));
+  Material floor;
+  floor.diffuseColor = floor.ambientColor = Color(0.6f, 0.6f, 0.65f);
+  floor.reflectance = Color(0.5f);
+  out.scene.addInstance(out.scene.addMesh(floorQuad(-1.2, -3.0, 3.0, -3.0, 3.0)), Mat4(1.0),
+                        out.scene.addMaterial(floor));
+  out.mainMaterial = floor;
+  out.scene.lights().push_back(makePointLight(Vec3(2.0, 4.0, 3.0)));
+  out.scene.background = Color(0.32f, 0.34f, 0.43f);
+  out.camera.eye = Vec3(2.2, 1.3, 3.4);
+  out.camera.focal = Vec3(0.0, -0.2, 0.0);
+  out.camera.up = Vec3(0.0, 1.0, 0.0);
+  out.camera.viewAngle = 35.0;
+}
+
 /// Rounds every coordinate and radius of every object to single precision (see the header comment).
 void roundSceneToFloat(Scene& scene) {
   for (uint32_t o = 0; o < scene.objectCount(); ++o) {
@@ -385,6 +423,14 @@ bool buildNamed(const std::string& name, const std::vector<std::string>& dataDir
   if (name == "glassmirror") {
     buildGlassMirror(out);
     out.description = "glass and mirror balls between two facing mirrors (deep recursion)";
+    return true;
+  }
+  if (name == "volume256" || name == "volume64" || name == "volume256-noskip" || name == "volume64-noskip") {
+    const int n = name.compare(0, 9, "volume256") == 0 ? 256 : 64;
+    const bool skip = name.find("noskip") == std::string::npos;
+    buildVolume(out, n, skip);
+    out.description = std::to_string(n) + "^3 volume (a blob, transparent rim) over a mirror floor" +
+                      (skip ? "" : ", without empty-space skipping");
     return true;
   }
   // Stiff scenes of the error estimate's calibration (core/scenes/stiff_scenes.h)
