@@ -184,7 +184,7 @@ int64_t Volume::skipEmptyCell(const Vec3& o, const Vec3& d, const Vec3& p, doubl
   // first and last cells reach on outward, as the cell of a point is clamped)
   double tExit = kInfinity;
   for (int a = 0; a < 3; ++a) {
-    const int c = std::clamp(int(std::floor(p[a] / kMacroCell)), 0, macroDims_[a] - 1);
+    const int c = macroCell(p[a], a);
     double plane;
     if (d[a] > 0.0 && c + 1 < macroDims_[a])
       plane = double(c + 1) * kMacroCell;
@@ -299,19 +299,20 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
   const int64_t steps = int64_t(std::min(count, 2.0 * kMaxSteps));
   const double perUnit = len / transfer.unitDistance;
   const bool skip = skipEmptySpace && !macroEmpty_.empty();
+  int64_t landed = -1;  // the step a skip landed on: sampled without looking again (it lies about at the exit)
   for (int64_t k = 0; k < steps; ++k) {
     const double ta = t0 + double(k) * dt;
     const bool full = k + 1 < steps && ta + dt <= t1;
     const double tb = full ? ta + dt : t1;
     if (!(tb > ta)) continue;
     const Vec3 p = o + (0.5 * (ta + tb)) * d;
-    if (skip) {
+    if (skip && k != landed) {
       std::size_t c = 0;
       for (int a = 2; a >= 0; --a)
-        c = c * std::size_t(macroDims_[a]) +
-            std::size_t(std::clamp(int(std::floor(p[a] / kMacroCell)), 0, macroDims_[a] - 1));
+        c = c * std::size_t(macroDims_[a]) + std::size_t(macroCell(p[a], a));
       if (macroEmpty_[c]) {  // no sample here adds anything: on to the first that may be outside the cell
-        k = skipEmptyCell(o, d, p, t0, dt, k) - 1;
+        landed = skipEmptyCell(o, d, p, t0, dt, k);
+        k = landed - 1;
         continue;
       }
     }

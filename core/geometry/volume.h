@@ -127,6 +127,12 @@ struct Volume {
   std::vector<float> macroMin_, macroMax_;
   std::vector<uint8_t> macroEmpty_;
   void buildMacroCells();
+  /// The macro cell along axis a of index coordinate x, clamped to the grid's cells (x / 8 compared in double before
+  /// the conversion, which truncates: the floor for x >= 8; x * 1/8 is exact).
+  int macroCell(double x, int a) const {
+    const double y = x * (1.0 / kMacroCell);
+    return y < 1.0 ? 0 : (y < double(macroDims_[a]) ? int(y) : macroDims_[a] - 1);
+  }
   /// The k of the first step after k0 whose sample may lie outside the empty macro cell holding sample point p
   /// (index space) of the march o + t d from t0 by dt: the march goes on from there.
   int64_t skipEmptyCell(const Vec3& o, const Vec3& d, const Vec3& p, double t0, double dt, int64_t k0) const;
