@@ -47,13 +47,13 @@ def phases(p):
     return {k: getattr(stats, "Get%sTime" % k)() for k in PHASES}
 
 
-def write_row(path, row):
+def write_row(path, row, fields=FIELDS):
     new = not os.path.exists(path) or os.path.getsize(path) == 0
     with open(path, "a", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=FIELDS)
+        w = csv.DictWriter(f, fieldnames=fields)
         if new:
             w.writeheader()
-        w.writerow({k: row.get(k, "") for k in FIELDS})
+        w.writerow({k: row.get(k, "") for k in fields})
 
 
 def make_polydata(path):
