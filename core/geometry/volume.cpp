@@ -299,22 +299,28 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
   const int64_t steps = int64_t(std::min(count, 2.0 * kMaxSteps));
   const double perUnit = len / transfer.unitDistance;
   const bool skip = skipEmptySpace && !macroEmpty_.empty();
-  int64_t landed = -1;  // the step a skip landed on: sampled without looking again (it lies about at the exit)
+  // The macro cell is looked up at the first step and then only at the first step that may lie outside the last
+  // one looked up (skipEmptyCell: steps before it lie inside by more than a step): an empty cell's steps are
+  // skipped, a non-empty cell's sampled without looking again; the step a skip lands on (about at the exit) is
+  // sampled without looking
+  int64_t nextLook = skip ? 0 : std::numeric_limits<int64_t>::max();
   for (int64_t k = 0; k < steps; ++k) {
     const double ta = t0 + double(k) * dt;
     const bool full = k + 1 < steps && ta + dt <= t1;
     const double tb = full ? ta + dt : t1;
     if (!(tb > ta)) continue;
     const Vec3 p = o + (0.5 * (ta + tb)) * d;
-    if (skip && k != landed) {
+    if (k >= nextLook) {
       std::size_t c = 0;
       for (int a = 2; a >= 0; --a)
         c = c * std::size_t(macroDims_[a]) + std::size_t(macroCell(p[a], a));
+      const int64_t exit = skipEmptyCell(o, d, p, t0, dt, k);
       if (macroEmpty_[c]) {  // no sample here adds anything: on to the first that may be outside the cell
-        landed = skipEmptyCell(o, d, p, t0, dt, k);
-        k = landed - 1;
+        nextLook = exit + 1;
+        k = exit - 1;
         continue;
       }
+      nextLook = exit;
     }
     const float s = sampleIndex(p);
     ++acc.samples;

@@ -133,7 +133,7 @@ struct Volume {
     const double y = x * (1.0 / kMacroCell);
     return y < 1.0 ? 0 : (y < double(macroDims_[a]) ? int(y) : macroDims_[a] - 1);
   }
-  /// The k of the first step after k0 whose sample may lie outside the empty macro cell holding sample point p
+  /// The k of the first step after k0 whose sample may lie outside the macro cell holding sample point p
   /// (index space) of the march o + t d from t0 by dt: the march goes on from there.
   int64_t skipEmptyCell(const Vec3& o, const Vec3& d, const Vec3& p, double t0, double dt, int64_t k0) const;
   void buildTable();
