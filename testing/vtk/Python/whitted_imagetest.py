@@ -221,12 +221,14 @@ def check_against_raster(test, name, window, render_pass, excluded=(), min_shado
     umbra = shadow & (np.abs(t - a).max(axis=1) <= 3)
     shadow_share = shadow.sum() / n
     umbra_share = umbra.sum() / max(1, shadow.sum())
+    ok = (compared.mean() > 0.05 and (d > 3).sum() / n <= 0.002 and (d > 1).sum() / n <= 0.01 and
+          outside.sum() / n <= 0.002 and shadow_share >= min_shadow_share and umbra_share >= min_umbra_share)
     print("[raster] %s: %d pixels compared (%.1f%% of the image); effects off vs VTK: >1/255 %.3f%%, >3/255 %.3f%% "
           "(allowed 1%%, 0.2%%); effects on outside [ambient, effects off] by >2/255: %.3f%% (allowed 0.2%%); "
-          "shadow pixels %.2f%% (at least %.2f%%), of them umbra = ambient term %.1f%% (at least %.1f%%)"
+          "shadow pixels %.2f%% (at least %.2f%%), of them umbra = ambient term %.1f%% (at least %.1f%%): %s"
           % (name, compared.sum(), 100 * compared.mean(), 100 * (d > 1).mean(), 100 * (d > 3).mean(),
              100 * outside.mean(), 100 * shadow_share, 100 * min_shadow_share, 100 * umbra_share,
-             100 * min_umbra_share))
+             100 * min_umbra_share, "ok" if ok else "FAILED"), flush=True)
     import os
     if os.environ.get("WHITTED_TEST_DUMP"):  # debugging aid: the five images as .npy in the temp dir
         from vtkmodules.test import Testing
