@@ -197,7 +197,7 @@ int64_t Volume::skipEmptyCell(const Vec3& o, const Vec3& d, const Vec3& p, doubl
   // Steps whose middle lies before the exit by more than a step stay inside (by far more than rounding): skipped;
   // the march samples from the step before the first middle past the exit and looks again
   const double k = std::ceil((tExit - t0) / dt - 0.5) - 1.0;
-  return k > double(k0 + 1) ? (k < 9e18 ? int64_t(k) : std::numeric_limits<int64_t>::max()) : k0 + 1;
+  return k > double(k0 + 1) ? int64_t(std::min(k, 0x1p60)) : k0 + 1;  // capped: the caller adds 1
 }
 
 void Volume::buildTable() {
