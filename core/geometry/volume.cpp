@@ -131,7 +131,14 @@ std::string Volume::prepare(std::size_t& invalidScalars) {
 
 void Volume::buildMacroCells() {
   const int* n = grid.dims;
-  if (macroMin_.empty()) {  // the scalar ranges: once per grid
+  // The scalar ranges: once per grid (the same scalars at the same address, size and dimensions: a transfer
+  // function edit re-prepares the volume with its grid)
+  const bool sameGrid = !macroMin_.empty() && rangesOf_ == grid.scalars.data() &&
+                        rangesSize_ == grid.scalars.size() && std::equal(n, n + 3, rangesDims_);
+  if (!sameGrid) {
+    rangesOf_ = grid.scalars.data();
+    rangesSize_ = grid.scalars.size();
+    std::copy(n, n + 3, rangesDims_);
     for (int a = 0; a < 3; ++a) macroDims_[a] = std::max(1, (n[a] - 1 + kMacroCell - 1) / kMacroCell);
     const std::size_t cells = std::size_t(macroDims_[0]) * macroDims_[1] * macroDims_[2];
     macroMin_.assign(cells, std::numeric_limits<float>::infinity());
@@ -159,8 +166,9 @@ void Volume::buildMacroCells() {
   }
   // Empty: no sample inside can have an opacity above 0 (NaN points are sampled, and counted). A constant cell's
   // samples are that constant exactly (a + f (b - a) with a = b): the lookup the march would make decides. Else every
-  // table entry a sample in the range can interpolate between must have opacity 0, one entry more on each side for
-  // the rounding of the trilinear interpolation and of the entry index
+  // table entry a sample in the range can interpolate between must have opacity 0: the range widened by 8 float
+  // ulps of its largest magnitude (trilinear interpolation's a + f (b - a) can pass b by about an ulp of the larger
+  // value), then one entry more on each side (the rounding of the entry index)
   macroEmpty_.assign(macroMin_.size(), 0);
   const float last = float(table_.size() - 1);
   for (std::size_t c = 0; c < macroMin_.size(); ++c) {
@@ -169,7 +177,10 @@ void Volume::buildMacroCells() {
       macroEmpty_[c] = !(lookup(macroMin_[c]).opacity > 0.0f);
       continue;
     }
-    const float xa = (macroMin_[c] - tableMin_) * tableScale_, xb = (macroMax_[c] - tableMin_) * tableScale_;
+    const float margin = 8.0f * std::numeric_limits<float>::epsilon() *
+                             std::max(std::abs(macroMin_[c]), std::abs(macroMax_[c]));
+    const float xa = (macroMin_[c] - margin - tableMin_) * tableScale_,
+                xb = (macroMax_[c] + margin - tableMin_) * tableScale_;
     if (!std::isfinite(xa) || !std::isfinite(xb)) continue;
     const int j0 = int(std::clamp(std::floor(xa) - 1.0f, 0.0f, last));
     const int j1 = int(std::clamp(std::ceil(xb) + 1.0f, 0.0f, last));

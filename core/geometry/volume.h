@@ -121,10 +121,14 @@ struct Volume {
   std::vector<Entry> table_;
   float tableMin_ = 0.0f, tableScale_ = 0.0f;  ///< Entry index = (scalar - tableMin_) x tableScale_.
   /// Macro cells, x fastest: the scalar range over each one's points (its kMacroCell^3 cells and the points on their
-  /// far faces, which trilinear samples inside read; NaN when a point is not finite), computed at the first prepare
-  /// (a new grid comes as a new Volume), and whether every sample inside has opacity 0 (per transfer function).
+  /// far faces, which trilinear samples inside read; NaN when a point is not finite), computed at a prepare whose
+  /// grid differs from the last one's (scalars' address and size, dimensions), and whether every sample inside has
+  /// opacity 0 (per transfer function, at every prepare).
   int macroDims_[3] = {0, 0, 0};
   std::vector<float> macroMin_, macroMax_;
+  const float* rangesOf_ = nullptr;  ///< The scalars the ranges were computed from (compared, never read).
+  std::size_t rangesSize_ = 0;
+  int rangesDims_[3] = {0, 0, 0};
   std::vector<uint8_t> macroEmpty_;
   void buildMacroCells();
   /// The macro cell along axis a of index coordinate x, clamped to the grid's cells (x / 8 compared in double before
@@ -133,8 +137,9 @@ struct Volume {
     const double y = x * (1.0 / kMacroCell);
     return y < 1.0 ? 0 : (y < double(macroDims_[a]) ? int(y) : macroDims_[a] - 1);
   }
-  /// The k of the first step after k0 whose sample may lie outside the macro cell holding sample point p
-  /// (index space) of the march o + t d from t0 by dt: the march goes on from there.
+  /// For the march o + t d from t0 by steps dt (index space), whose step k0 has its sample point p in some macro
+  /// cell: the step before the first whose middle lies past the ray's exit from that cell (at least k0 + 1, at most
+  /// 2^60). The steps between lie inside the cell by more than a step.
   int64_t skipEmptyCell(const Vec3& o, const Vec3& d, const Vec3& p, double t0, double dt, int64_t k0) const;
   void buildTable();
   Entry lookup(float s) const;

@@ -55,10 +55,12 @@ struct IntegratorSettings {
   /// at most truncationLookahead, or truncationLookahead 0: fixed levels, unshadowed. Default 1/255 (8-bit step).
   float truncationTolerance = 1.0f / 255.0f;
   int truncationLookaheadMax = 16;  ///< Most levels of bound rays per cut ray with truncationTolerance. Default 16.
-  /// Most bound rays the adaptive lookahead traces per cut ray. A cut ray's levels branch in two wherever a hit
-  /// both reflects and refracts, so 16 levels could take 2^16 rays (a glass tube inside a mirror tube); once this
-  /// many are traced, the levels left are charged the scene-wide remaining bound (strict, looser), and
-  /// RayStats::boundRaysCapped counts the cut rays that reached it. Default 1024.
+  /// Bound rays after which the adaptive lookahead adds no level for a cut ray. A cut ray's levels branch in two
+  /// wherever a hit both reflects and refracts, so 16 levels could take 2^16 rays (a glass tube inside a mirror
+  /// tube); once this many are traced, no further level is followed: the levels left are charged the scene-wide
+  /// remaining bound (strict, looser), and RayStats::boundRaysCapped counts the cut rays that reached it. The
+  /// branches already under way still trace their own ray each (at most truncationLookaheadMax more, plus their
+  /// hits' shadow rays). Default 1024.
   int truncationBoundRays = 1024;
   /// Adaptive lookahead for small charges: a cut ray's tolerance is min(truncationTolerance, this x the charge its
   /// first bound ray would leave: weight x (unshadowed local term + kr + kt times the remaining bound)). Where a

@@ -10,8 +10,9 @@ Files stay small enough to read: no core file above 450 lines, no plugin file ab
 Usage: check_layers.py [ROOT]   (ROOT: the source tree, default: two folders up from this script)
 Exit status 0 if every include respects the layers, 1 (with one line per violation) otherwise.
 check_layers.py --self-test: the negative control: a copy of ROOT's core/ and plugin/ with one deliberate upward
-include each (util including image, core including VTK, the VTK module including a ParaView class) and one core
-file grown past its limit must fail with exactly those violations, and the unmodified copy must pass.
+include each (util including image, core including VTK, the VTK module including a ParaView class), one core file
+and one plugin file grown past their limits must fail with exactly those violations, and the unmodified copy must
+pass.
 """
 import os
 import re
@@ -90,17 +91,18 @@ def self_test(root):
             os.path.join(tmp, "core", "scene", "scene.cpp"): '#include "vtkObject.h"\n',
             os.path.join(tmp, "plugin", "vtkWhittedPass.cxx"): '#include "vtkPVRenderView.h"\n',
             os.path.join(tmp, "core", "image", "film.cpp"): "\n" * (MAX_LINES["core"] + 1),
+            os.path.join(tmp, "plugin", "vtkWhittedLights.cxx"): "\n" * (MAX_LINES["plugin"] + 1),
         }
         for path, line in planted.items():
             with open(path, "a") as f:
                 f.write(line)
         broken = check(tmp)
-    print("self-test: unmodified copy %d violations; with 3 planted includes and a long file %d:" %
+    print("self-test: unmodified copy %d violations; with 3 planted includes and two long files %d:" %
           (len(clean), len(broken)))
     for line in broken:
         print("  " + line)
-    ok = not clean and len(broken) == 4 and "util/math.h includes image/renderer.h" in "".join(broken) and \
-        "core/image/film.cpp has" in "".join(broken)
+    ok = not clean and len(broken) == 5 and "util/math.h includes image/renderer.h" in "".join(broken) and \
+        "core/image/film.cpp has" in "".join(broken) and "plugin/vtkWhittedLights.cxx has" in "".join(broken)
     print("check_layers self-test: %s" % ("ok" if ok else "FAILED"))
     return 0 if ok else 1
 
