@@ -17,10 +17,11 @@ committed baseline stays beside it as a change guard.
 import os
 import traceback
 
-# The playback's rubber band, as fractions of the view (gui_selection.xml.in: press at 0.38, release at 0.62)
+# The playback's rubber band, as fractions of the view (gui_selection.xml.in: press at (0.38, 0.38), release at
+# (0.62, 0.62), Qt's y down): the same fractions with VTK's y up, as the band is symmetric
 BAND = (0.38, 0.62)
-# Pixels compared (geometry off edges): at least this many (else the oracle says little). Measured: 2190 (gui,
-# 300x300), 4-5 thousand (gui.selection, the GUI's view size)
+# Pixels compared (geometry off edges): at least this many (else the oracle says little). Measured: 2147 (gui,
+# 300x300), 9965 (gui.selection, the GUI's view size)
 MIN_PIXELS = 1000
 
 
@@ -107,10 +108,14 @@ def _compared(pvt, rv, shown, raster, hidden, tmp):
     return geometry & ~(covered | edges)
 
 
-def _effects(view, on):
-    view.Shadows = int(on)
-    view.Reflections = int(on)
-    view.Refractions = int(on)
+def _effects(view, on=None, saved=None):
+    """Switches the view's shadows, reflections and refractions all on or off and returns what they were; with
+    saved, puts them back."""
+    names = ("Shadows", "Reflections", "Refractions")
+    before = [getattr(view, n) for n in names]
+    for n, v in zip(names, saved if saved is not None else [int(on)] * 3):
+        setattr(view, n, v)
+    return before
 
 
 def check_whitted(tmp, report):
@@ -123,10 +128,10 @@ def check_whitted(tmp, report):
     size = (300, 300)
     legends = _hide_legends(view)  # 2D annotations laid out for the GUI's view size: not the tracer's
     on = pvt.screenshot(view, os.path.join(tmp, "gui_whitted_on.png"), size)
-    _effects(view, False)
+    saved = _effects(view, False)
     off_png = os.path.join(tmp, "gui_whitted_off.png")
     off = pvt.screenshot(view, off_png, size)
-    _effects(view, True)
+    _effects(view, saved=saved)
     layout, rv, shown, clones = _render_view_of(view, size)
     raster_png = os.path.join(tmp, "gui_whitted_renderview.png")
     raster = pvt.screenshot(rv, raster_png, size)
@@ -185,6 +190,7 @@ def check_selection(tmp, report):
     gui_cells = _selected_cells(src)
     w, h = [int(x) for x in view.ViewSize]
     size = (w, h)
+    report(True, "the view is %d x %d pixels" % (w, h))
     # The Render View's selections (on the clone) with the rubber band's rectangle (pixels, origin bottom left),
     # shrunk and grown
     layout, rv, shown, clones = _render_view_of(view, size)
@@ -209,10 +215,10 @@ def check_selection(tmp, report):
     clone.SMProxy.SetSelectionInput(0, ids.SMProxy, 0)
     raster_png = os.path.join(tmp, "gui_selection_renderview.png")
     raster = pvt.screenshot(rv, raster_png, size)
-    _effects(view, False)
+    saved = _effects(view, False)
     off_png = os.path.join(tmp, "gui_selection_off.png")
     pvt.screenshot(view, off_png, size)
-    _effects(view, True)
+    _effects(view, saved=saved)
     compared = _compared(pvt, rv, shown, raster, [], tmp)
     report(compared.sum() >= MIN_PIXELS, "%d pixels compared (the sphere off edges)" % compared.sum())
     magenta = ((raster[:, :, 0] > 200) & (raster[:, :, 1] < 80) & (raster[:, :, 2] > 200) & compared).sum()
@@ -243,7 +249,7 @@ def main(kind, result):
 
             GetActiveView().ShadingErrorForTesting = perturb
             log.append("negative control: ShadingErrorForTesting %d" % perturb)
-        tmp = os.path.join(os.path.dirname(os.path.abspath(result)), "gui_oracle_" + kind)
+        tmp = os.path.abspath(result) + ".images"  # per result file: a test and its control may run at once
         os.makedirs(tmp, exist_ok=True)
         {"whitted": check_whitted, "selection": check_selection}[kind](tmp, report)
     except Exception:  # noqa: BLE001 - any error is a failure of the test, written where run_gui_test.py reads it
