@@ -25,14 +25,20 @@ BAND = (0.38, 0.62)
 MIN_PIXELS = 1000
 
 
+LOOK = ("CameraPosition", "CameraFocalPoint", "CameraViewUp", "CameraViewAngle", "CameraParallelScale",
+        "CameraParallelProjection", "OrientationAxesVisibility", "UseColorPaletteForBackground", "BackgroundColorMode",
+        "Background", "Background2", "UseLight", "LightSwitch")
+
+
 def _copy_look(src_view, dst_view):
-    for prop in ("CameraPosition", "CameraFocalPoint", "CameraViewUp", "CameraViewAngle", "CameraParallelScale",
-                 "CameraParallelProjection", "OrientationAxesVisibility", "UseColorPaletteForBackground",
-                 "BackgroundColorMode", "Background", "Background2", "UseLight", "LightSwitch"):
+    """Copies the camera, background and light kit switches; returns the properties that could not be copied."""
+    skipped = []
+    for prop in LOOK:
         try:
             setattr(dst_view, prop, getattr(src_view, prop))
         except (AttributeError, ValueError):
-            pass
+            skipped.append(prop)
+    return skipped
 
 
 def _clone(src):
@@ -49,7 +55,7 @@ def _clone(src):
     return clone
 
 
-def _render_view_of(view, size):
+def _render_view_of(view, size, report):
     """A Render View in a layout of its own (the GUI renders a view only in a layout), showing clones of view's
     shown sources with their colouring, and view's look. Returns (layout, view, {name: (clone, GUI display, Render
     View display)}, {GUI source: clone})."""
@@ -60,7 +66,8 @@ def _render_view_of(view, size):
     AssignViewToLayout(view=rv, layout=layout, hint=0)
     rv.ViewSize = list(size)
     rv.EnableRenderOnInteraction = 0
-    _copy_look(view, rv)
+    skipped = _copy_look(view, rv)
+    report(True, "the view's look copied (not copied: %s)" % (", ".join(skipped) or "none"))
     shown, clones = {}, {}
     for (name, _), src in list(GetSources().items()):
         wd = GetDisplayProperties(src, view=view)
@@ -132,7 +139,7 @@ def check_whitted(tmp, report):
     off_png = os.path.join(tmp, "gui_whitted_off.png")
     off = pvt.screenshot(view, off_png, size)
     _effects(view, saved=saved)
-    layout, rv, shown, clones = _render_view_of(view, size)
+    layout, rv, shown, clones = _render_view_of(view, size, report)
     raster_png = os.path.join(tmp, "gui_whitted_renderview.png")
     raster = pvt.screenshot(rv, raster_png, size)
     spheres = [src for (src, wd, _) in shown.values() if wd.Representation == "Whitted Surface"]
@@ -193,7 +200,7 @@ def check_selection(tmp, report):
     report(True, "the view is %d x %d pixels" % (w, h))
     # The Render View's selections (on the clone) with the rubber band's rectangle (pixels, origin bottom left),
     # shrunk and grown
-    layout, rv, shown, clones = _render_view_of(view, size)
+    layout, rv, shown, clones = _render_view_of(view, size, report)
     clone = clones[src]
     pvt.screenshot(rv, os.path.join(tmp, "gui_selection_renderview_plain.png"), size)
     bands = {}
