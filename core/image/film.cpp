@@ -201,6 +201,12 @@ void FrameJob::tracePixels(int tileSlot, int n, bool refineOnly) {
     }
     return missClean;
   };
+  // Writes the clean miss (missValue, found by cleanMiss) as pixel idx's n samples
+  auto storeMiss = [&](std::size_t idx) {
+    samples += n;
+    if (refineOnly) ++refined;
+    storePixel(idx, missValue);
+  };
   // Block culling (RenderSettings::blockCulling): per 8x8 block of the tile, whether its frustum can meet anything
   // (0 not known yet, 1 yes, 2 no), found when one of its pixels first needs it
   constexpr int kCullBlock = 8, kMaxCullBlocks = 8;  // (tiles up to 64 pixels wide)
@@ -243,9 +249,7 @@ void FrameJob::tracePixels(int tileSlot, int n, bool refineOnly) {
         st += stats[k];
         if (misses >> k & 1) {
           if (cleanMiss(bg[k])) {
-            samples += n;
-            if (refineOnly) ++refined;
-            storePixel(pending[k].idx, missValue);
+            storeMiss(pending[k].idx);
             continue;
           }
           misses &= ~(1u << k);
@@ -270,9 +274,7 @@ void FrameJob::tracePixels(int tileSlot, int n, bool refineOnly) {
       if (cull && blockCulled(px, py) && cleanMiss(rowBackground)) {
         ++st.primary;
         ++culled;
-        samples += n;
-        if (refineOnly) ++refined;
-        storePixel(idx, missValue);
+        storeMiss(idx);
         return;
       }
       pending[np] = Pending{idx, px, py};
