@@ -190,12 +190,12 @@ void Volume::buildMacroCells() {
   }
 }
 
-int64_t Volume::skipEmptyCell(const Vec3& o, const Vec3& d, const Vec3& p, double t0, double dt, int64_t k0) const {
+int64_t Volume::skipEmptyCell(const Vec3& o, const Vec3& d, const int cell[3], double t0, double dt, int64_t k0) const {
   // The ray leaves the cell through the far plane of one axis: in index space cell c spans [c K, (c + 1) K) (the
   // first and last cells reach on outward, as the cell of a point is clamped)
   double tExit = kInfinity;
   for (int a = 0; a < 3; ++a) {
-    const int c = macroCell(p[a], a);
+    const int c = cell[a];
     double plane;
     if (d[a] > 0.0 && c + 1 < macroDims_[a])
       plane = double(c + 1) * kMacroCell;
@@ -322,10 +322,11 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
     if (!(tb > ta)) continue;
     const Vec3 p = o + (0.5 * (ta + tb)) * d;
     if (k >= nextLook) {
-      std::size_t c = 0;
-      for (int a = 2; a >= 0; --a)
-        c = c * std::size_t(macroDims_[a]) + std::size_t(macroCell(p[a], a));
-      const int64_t exit = skipEmptyCell(o, d, p, t0, dt, k);
+      const int cell[3] = {macroCell(p.x, 0), macroCell(p.y, 1), macroCell(p.z, 2)};
+      const std::size_t c =
+          (std::size_t(cell[2]) * std::size_t(macroDims_[1]) + std::size_t(cell[1])) * std::size_t(macroDims_[0]) +
+          std::size_t(cell[0]);
+      const int64_t exit = skipEmptyCell(o, d, cell, t0, dt, k);
       if (macroEmpty_[c]) {  // no sample here adds anything: on to the first that may be outside the cell
         nextLook = exit + 1;
         k = exit - 1;

@@ -137,10 +137,10 @@ struct Volume {
     const double y = x * (1.0 / kMacroCell);
     return y < 1.0 ? 0 : (y < double(macroDims_[a]) ? int(y) : macroDims_[a] - 1);
   }
-  /// For the march o + t d from t0 by steps dt (index space), whose step k0 has its sample point p in some macro
-  /// cell: the step before the first whose middle lies past the ray's exit from that cell (at least k0 + 1, at most
-  /// 2^60). The steps between lie inside the cell by more than a step.
-  int64_t skipEmptyCell(const Vec3& o, const Vec3& d, const Vec3& p, double t0, double dt, int64_t k0) const;
+  /// For the march o + t d from t0 by steps dt (index space), whose step k0 has its sample point in macro cell
+  /// cell (per axis, macroCell): the step before the first whose middle lies past the ray's exit from that cell (at
+  /// least k0 + 1, at most 2^60). The steps between lie inside the cell by more than a step.
+  int64_t skipEmptyCell(const Vec3& o, const Vec3& d, const int cell[3], double t0, double dt, int64_t k0) const;
   void buildTable();
   Entry lookup(float s) const;
   float sampleIndex(const Vec3& index) const;  ///< sample() without the call
