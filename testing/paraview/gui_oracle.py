@@ -109,10 +109,8 @@ def _compared(pvt, rv, shown, raster, hidden, tmp):
     empty = pvt.screenshot(rv, os.path.join(tmp, "renderview_empty.png"), raster.shape[1::-1])
     for src, _, rd in shown.values():
         Show(src, rv)
-    covered = pvt.dilate(np.abs(raster - without).max(axis=2) > 0, 2)
-    edges = pvt.silhouette_mask(raster) | pvt.silhouette_mask(without)
     geometry = np.abs(raster - empty).max(axis=2) > 0
-    return geometry & ~(covered | edges)
+    return geometry & pvt.off_props_and_edges(raster, without)
 
 
 def _effects(view, on=None, saved=None):

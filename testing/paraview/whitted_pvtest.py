@@ -357,6 +357,15 @@ def dilate(mask, steps=1):
     return m
 
 
+def off_props_and_edges(raster, without):
+    """The pixels a Render View comparison uses: off the props that raster shows and without lacks (the difference,
+    dilated by 2 pixels) and off the colour edges of either image (silhouette_mask)."""
+    import numpy as np
+
+    covered = dilate(np.abs(raster - without).max(axis=2) > 0, 2)
+    return ~(covered | silhouette_mask(raster) | silhouette_mask(without))
+
+
 def check_against_render_view(view, shown, args, image):
     """The independent check of a single-process Whitted image (test_render --render-view-oracle; see there).
     Returns a list of failures (empty if none)."""
@@ -391,9 +400,7 @@ def check_against_render_view(view, shown, args, image):
     Hide(rv_shown["mirror"].Input, rv)
     Hide(rv_shown["glass"].Input, rv)
     without = screenshot(rv, os.path.join(tmp, name + "_renderview_matte.png"), size)
-    spheres = dilate(np.abs(raster - without).max(axis=2) > 0, 2)
-    edges = silhouette_mask(raster) | silhouette_mask(without)
-    compared = ~(spheres | edges)
+    compared = off_props_and_edges(raster, without)
     share = float(compared.mean())
     print("render-view oracle: %.1f%% of the pixels compared (not on the mirror or glass spheres, not on an edge)"
           % (100 * share))
