@@ -1,4 +1,5 @@
-// The volume primitive: transfer functions, validation, grid sampling and the march of one ray segment.
+// The volume primitive: transfer functions, validation, the transfer-function table and the macro cells (the march
+// and the sampling: volume_sampling.cpp).
 #include "geometry/volume.h"
 
 #include <algorithm>
@@ -170,7 +171,7 @@ void Volume::buildMacroCells() {
   // ulps of its largest magnitude (trilinear interpolation's a + f (b - a) can pass b by about an ulp of the larger
   // value), then one entry more on each side (the rounding of the entry index)
   macroEmpty_.assign(macroMin_.size(), 0);
-  const float last = float(table_.size() - 1);
+  const float last = tableLast_;
   for (std::size_t c = 0; c < macroMin_.size(); ++c) {
     if (std::isnan(macroMin_[c])) continue;
     if (macroMin_[c] == macroMax_[c]) {
@@ -190,27 +191,6 @@ void Volume::buildMacroCells() {
   }
 }
 
-int64_t Volume::skipEmptyCell(const Vec3& o, const Vec3& d, const int cell[3], double t0, double dt, int64_t k0) const {
-  // The ray leaves the cell through the far plane of one axis: in index space cell c spans [c K, (c + 1) K) (the
-  // first and last cells reach on outward, as the cell of a point is clamped)
-  double tExit = kInfinity;
-  for (int a = 0; a < 3; ++a) {
-    const int c = cell[a];
-    double plane;
-    if (d[a] > 0.0 && c + 1 < macroDims_[a])
-      plane = double(c + 1) * kMacroCell;
-    else if (d[a] < 0.0 && c > 0)
-      plane = double(c) * kMacroCell;
-    else
-      continue;
-    tExit = std::min(tExit, (plane - o[a]) / d[a]);
-  }
-  // Steps whose middle lies before the exit by more than a step stay inside (by far more than rounding): skipped;
-  // the march samples from the step before the first middle past the exit and looks again
-  const double k = std::ceil((tExit - t0) / dt - 0.5) - 1.0;
-  return k > double(k0 + 1) ? int64_t(std::min(k, 0x1p60)) : k0 + 1;  // capped: the caller adds 1
-}
-
 void Volume::buildTable() {
   // Over the range of both functions' nodes; outside it both are constant (clamped)
   float lo = std::numeric_limits<float>::infinity(), hi = -lo;
@@ -224,7 +204,8 @@ void Volume::buildTable() {
   tableMin_ = lo;
   tableScale_ = hi > lo ? float(double(n - 1) / (double(hi) - double(lo))) : 0.0f;
   if (!std::isfinite(tableScale_)) tableScale_ = 0.0f;
-  table_.resize(std::size_t(n));
+  table_.resize(std::size_t(n) + 1);  // entry n repeats entry n - 1: lookups read i + 1 <= n unclamped
+  tableLast_ = float(n - 1);
   const double ratio = step_ / transfer.unitDistance;
   for (int i = 0; i < n; ++i) {
     const float s = n > 1 ? float(double(lo) + (double(hi) - double(lo)) * i / (n - 1)) : lo;
@@ -233,18 +214,7 @@ void Volume::buildTable() {
     e.opacity = transfer.opacity(s);
     e.alphaStep = float(-std::expm1(std::log1p(-double(e.opacity)) * ratio));
   }
-}
-
-Volume::Entry Volume::lookup(float s) const {
-  float x = (s - tableMin_) * tableScale_;
-  const float last = float(table_.size() - 1);
-  x = x > 0.0f ? (x < last ? x : last) : 0.0f;  // NaN (an overflowed s - tableMin_ times 0) gives 0
-  const std::size_t i = std::size_t(x);
-  const std::size_t j = std::min(i + 1, table_.size() - 1);
-  const float f = x - float(i);
-  const Entry &a = table_[i], &b = table_[j];
-  return Entry{a.color + f * (b.color - a.color), a.opacity + f * (b.opacity - a.opacity),
-               a.alphaStep + f * (b.alphaStep - a.alphaStep)};
+  table_[std::size_t(n)] = table_[std::size_t(n - 1)];
 }
 
 bool Volume::clip(const Ray& ray, double& t0, double& t1) const {
@@ -263,94 +233,6 @@ bool Volume::clip(const Ray& ray, double& t0, double& t1) const {
     t1 = std::min(t1, tb);
   }
   return t0 < t1;
-}
-
-float Volume::sample(const Vec3& index) const {
-  return sampleIndex(index);
-}
-
-inline float Volume::sampleIndex(const Vec3& index) const {
-  const int nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
-  double p[3];
-  for (int a = 0; a < 3; ++a) {
-    const double hi = double(grid.dims[a] - 1);
-    p[a] = index[a] >= 0.0 ? (index[a] <= hi ? index[a] : hi) : 0.0;  // NaN -> 0
-  }
-  const float* s = grid.scalars.data();
-  if (interpolation == VolumeInterpolation::Nearest) {
-    const std::size_t i = std::size_t(p[0] + 0.5), j = std::size_t(p[1] + 0.5), k = std::size_t(p[2] + 0.5);
-    return s[(k * std::size_t(ny) + j) * std::size_t(nx) + i];
-  }
-  int i0[3];
-  float f[3];
-  for (int a = 0; a < 3; ++a) {
-    i0[a] = std::min(int(p[a]), grid.dims[a] - 2);
-    f[a] = float(p[a] - double(i0[a]));
-  }
-  const std::size_t sx = 1, sy = std::size_t(nx), sz = std::size_t(nx) * std::size_t(ny);
-  const float* c = s + std::size_t(i0[2]) * sz + std::size_t(i0[1]) * sy + std::size_t(i0[0]);
-  const float c00 = c[0] + f[0] * (c[sx] - c[0]);
-  const float c10 = c[sy] + f[0] * (c[sy + sx] - c[sy]);
-  const float c01 = c[sz] + f[0] * (c[sz + sx] - c[sz]);
-  const float c11 = c[sz + sy] + f[0] * (c[sz + sy + sx] - c[sz + sy]);
-  const float c0 = c00 + f[1] * (c10 - c00);
-  const float c1 = c01 + f[1] * (c11 - c01);
-  (void)nz;
-  return c0 + f[2] * (c1 - c0);
-}
-
-void Volume::march(const Ray& ray, double t0, double t1, bool emission, float stopBelow, VolumeMarch& acc) const {
-  const double len = glm::length(lengthMetric * ray.dir);
-  if (!(t1 > t0) || !(len > 0.0)) return;
-  const Vec3 o = toIndex_ * (ray.origin - grid.origin);
-  const Vec3 d = toIndex_ * ray.dir;
-  const double dt = step_ / len;
-  const double count = std::ceil((t1 - t0) / dt);
-  if (!(count >= 1.0)) return;
-  const int64_t steps = int64_t(std::min(count, 2.0 * kMaxSteps));
-  const double perUnit = len / transfer.unitDistance;
-  const bool skip = skipEmptySpace && !macroEmpty_.empty();
-  // The macro cell is looked up at the first step and then only at the first step that may lie outside the last
-  // one looked up (skipEmptyCell: steps before it lie inside by more than a step): an empty cell's steps are
-  // skipped, a non-empty cell's sampled without looking again; the step a skip lands on (about at the exit) is
-  // sampled without looking
-  int64_t nextLook = skip ? 0 : std::numeric_limits<int64_t>::max();
-  for (int64_t k = 0; k < steps; ++k) {
-    const double ta = t0 + double(k) * dt;
-    const bool full = k + 1 < steps && ta + dt <= t1;
-    const double tb = full ? ta + dt : t1;
-    if (!(tb > ta)) continue;
-    const Vec3 p = o + (0.5 * (ta + tb)) * d;
-    if (k >= nextLook) {
-      const int cell[3] = {macroCell(p.x, 0), macroCell(p.y, 1), macroCell(p.z, 2)};
-      const std::size_t c =
-          (std::size_t(cell[2]) * std::size_t(macroDims_[1]) + std::size_t(cell[1])) * std::size_t(macroDims_[0]) +
-          std::size_t(cell[0]);
-      const int64_t exit = skipEmptyCell(o, d, cell, t0, dt, k);
-      if (macroEmpty_[c]) {  // no sample here adds anything: on to the first that may be outside the cell
-        nextLook = exit + 1;
-        k = exit - 1;
-        continue;
-      }
-      nextLook = exit;
-    }
-    const float s = sampleIndex(p);
-    ++acc.samples;
-    if (std::isnan(s)) {
-      ++acc.invalidSamples;
-      continue;
-    }
-    const Entry e = lookup(s);
-    if (e.opacity <= 0.0f) continue;
-    // 1 - (1 - a)^(h / unitDistance), from the table for a full step; a = 1 gives log1p(-1) = -inf and alpha 1
-    const float alpha = full ? e.alphaStep : float(-std::expm1(std::log1p(-double(e.opacity)) * (tb - ta) * perUnit));
-    if (emission) acc.color += (acc.transmittance * alpha) * e.color;
-    acc.transmittance *= 1.0f - alpha;
-    if (acc.transmittance < stopBelow) {
-      acc.terminated = true;
-      return;
-    }
-  }
 }
 
 }  // namespace whitted

@@ -99,8 +99,8 @@ struct Volume {
 
   /// Parameter interval of the ray inside the grid's box, intersected with (t0, t1); false if empty.
   bool clip(const Ray& ray, double& t0, double& t1) const;
-  /// The scalar at a point in index coordinates (clamped to the grid), by the interpolation mode. NaN where a
-  /// non-finite scalar is used.
+  /// The scalar at a point in index coordinates (clamped to the grid), by the interpolation mode, computed in single
+  /// precision (as the march samples). NaN where a non-finite scalar is used.
   float sample(const Vec3& index) const;
   /// Emission-absorption over the ray parameter interval [t0, t1] (inside the box: see clip), front to back into
   /// acc: samples at the middle of steps of step() (the last one shorter), each with alpha
@@ -118,8 +118,9 @@ struct Volume {
     float opacity;
     float alphaStep;  ///< 1 - (1 - opacity)^(step / unitDistance)
   };
-  std::vector<Entry> table_;
+  std::vector<Entry> table_;  ///< kTableSize entries (1 without a range), then the last one again.
   float tableMin_ = 0.0f, tableScale_ = 0.0f;  ///< Entry index = (scalar - tableMin_) x tableScale_.
+  float tableLast_ = 0.0f;                     ///< The last entry's index (the repeated one not counted).
   /// Macro cells, x fastest: the scalar range over each one's points (its kMacroCell^3 cells and the points on their
   /// far faces, which trilinear samples inside read; NaN when a point is not finite), computed at a prepare whose
   /// grid differs from the last one's (scalars' address and size, dimensions), and whether every sample inside has
@@ -131,19 +132,10 @@ struct Volume {
   int rangesDims_[3] = {0, 0, 0};
   std::vector<uint8_t> macroEmpty_;
   void buildMacroCells();
-  /// The macro cell along axis a of index coordinate x, clamped to the grid's cells (x / 8 compared in double before
-  /// the conversion, which truncates: the floor for x >= 8; x * 1/8 is exact).
-  int macroCell(double x, int a) const {
-    const double y = x * (1.0 / kMacroCell);
-    return y < 1.0 ? 0 : (y < double(macroDims_[a]) ? int(y) : macroDims_[a] - 1);
-  }
-  /// For the march o + t d from t0 by steps dt (index space), whose step k0 has its sample point in macro cell
-  /// cell (per axis, macroCell): the step before the first whose middle lies past the ray's exit from that cell (at
-  /// least k0 + 1, at most 2^60). The steps between lie inside the cell by more than a step.
-  int64_t skipEmptyCell(const Vec3& o, const Vec3& d, const int cell[3], double t0, double dt, int64_t k0) const;
+  struct CellLook;  ///< The march's macro-cell look-ups (volume.cpp)
   void buildTable();
   Entry lookup(float s) const;
-  float sampleIndex(const Vec3& index) const;  ///< sample() without the call
+  struct Sampler;  ///< The march's per-sample constants and reads (volume.cpp)
 };
 
 }  // namespace whitted
