@@ -215,6 +215,14 @@ void Volume::buildTable() {
     e.alphaStep = float(-std::expm1(std::log1p(-double(e.opacity)) * ratio));
   }
   table_[std::size_t(n)] = table_[std::size_t(n - 1)];
+  int first = n, last = -1;
+  for (int i = 0; i < n; ++i)
+    if (table_[std::size_t(i)].opacity > 0.0f) {
+      first = std::min(first, i);
+      last = i;
+    }
+  opaqueLo_ = last < 0 ? std::numeric_limits<float>::infinity() : float(first - 1);
+  opaqueHi_ = last < 0 ? -std::numeric_limits<float>::infinity() : float(last + 1);
 }
 
 bool Volume::clip(const Ray& ray, double& t0, double& t1) const {

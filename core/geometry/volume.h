@@ -121,6 +121,9 @@ struct Volume {
   std::vector<Entry> table_;  ///< kTableSize entries (1 without a range), then the last one again.
   float tableMin_ = 0.0f, tableScale_ = 0.0f;  ///< Entry index = (scalar - tableMin_) x tableScale_.
   float tableLast_ = 0.0f;                     ///< The last entry's index (the repeated one not counted).
+  /// Table indices x whose interpolated opacity may be above 0 lie in [opaqueLo_, opaqueHi_) (one entry beyond the
+  /// first and last entries above 0: the lerp of two zero entries is 0 exactly); empty when none is.
+  float opaqueLo_ = 0.0f, opaqueHi_ = 0.0f;
   /// Macro cells, x fastest: the scalar range over each one's points (its kMacroCell^3 cells and the points on their
   /// far faces, which trilinear samples inside read; NaN when a point is not finite), computed at a prepare whose
   /// grid differs from the last one's (scalars' address and size, dimensions), and whether every sample inside has

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 
 namespace whitted {
@@ -50,21 +51,51 @@ struct Volume::CellLook {
     return (std::size_t(c[2]) * std::size_t(v.macroDims_[1]) + std::size_t(c[1])) * std::size_t(v.macroDims_[0]) +
            std::size_t(c[0]);
   }
-  /// For step k0, whose sample point lies in cell (index c in the cell arrays): the step before the first whose
-  /// middle may lie past the ray's exit from the cell (at least k0 + 1, at most 2^60), negated when the cell is
-  /// empty. The steps between have their middles inside by more than a step (far more than the rounding of the exit
-  /// and of the float sample points).
+  /// For step k0, whose sample point lies in cell (index c in the cell arrays): an empty cell gives the step before
+  /// the first whose middle may lie past the ray's exit from the cell (at least k0 + 1, at most 2^60), negated; the
+  /// steps between have their middles inside by more than a step (far more than the rounding of the exit and of
+  /// the float sample points), so they can be skipped. A non-empty cell gives the end of the run of steps to sample
+  /// before looking again (lastInsideRun).
   int64_t lastInside(const int cell[3], int64_t k0, std::size_t c) const {
-    const int64_t k = lastInsideStep(cell, k0);
-    return v.macroEmpty_[c] ? -k : k;
+    return v.macroEmpty_[c] ? -lastInsideStep(cell, k0) : lastInsideRun(cell, k0);
   }
   int64_t lastInsideStep(const int cell[3], int64_t k0) const {
-    // (A NaN exit, 0 x inf or inf - inf, comes from a direction component so small that the plane lies beyond any
-    // step: std::min keeps u)
     double u = kInfinity;
-    for (int a = 0; a < 3; ++a)
-      if (cell[a] != noExit[a]) u = std::min(u, double(cell[a]) * A[a] + B[a]);
-    // ceil(u - 1/2) - 1 without the libm call (the conversion truncates)
+    for (int a = 0; a < 3; ++a) u = std::min(u, exitOf(cell, a));
+    return stepBefore(u, k0);
+  }
+  static constexpr int kRunCells = 8;  ///< At most this many cells after the first per run (lastInsideRun).
+  /// From non-empty cell at step k0: the step before the first whose middle may lie past the ray's exit from the
+  /// last cell of the run of non-empty cells it crosses from there (at most kRunCells more: a ray may end before;
+  /// cells in the order of their exits along the ray, one axis at a time). Every step up to there is sampled; the
+  /// order needs no exactness at edges and corners, since it only decides where the march looks again (a step in a
+  /// cell it missed adds nothing if that cell is empty).
+  int64_t lastInsideRun(const int cell[3], int64_t k0) const {
+    int c[3] = {cell[0], cell[1], cell[2]};
+    double u[3];
+    for (int a = 0; a < 3; ++a) u[a] = exitOf(c, a);
+    for (int n = 0;; ++n) {
+      const int a = u[0] <= u[1] ? (u[0] <= u[2] ? 0 : 2) : (u[1] <= u[2] ? 1 : 2);
+      // The last cell on every axis the ray moves along, or as far as one look goes (a ray may end before)
+      if (!(u[a] < kInfinity) || n == kRunCells) return stepBefore(u[a], k0);
+      c[a] += A[a] > 0.0 ? 1 : -1;
+      if (v.macroEmpty_[(std::size_t(c[2]) * std::size_t(v.macroDims_[1]) + std::size_t(c[1])) *
+                            std::size_t(v.macroDims_[0]) +
+                        std::size_t(c[0])])
+        return stepBefore(u[a], k0);
+      u[a] = exitOf(c, a);
+    }
+  }
+  /// The ray's exit from cell c across axis a, in steps after t0: +inf when the ray does not leave it that way. (A
+  /// NaN exit, 0 x inf or inf - inf, comes from a direction component so small that the plane lies beyond any
+  /// step: +inf too.)
+  double exitOf(const int c[3], int a) const {
+    const double u = double(c[a]) * A[a] + B[a];
+    return c[a] != noExit[a] && !std::isnan(u) ? u : kInfinity;
+  }
+  /// ceil(u - 1/2) - 1 (the step before the first whose middle may lie past u), at least k0 + 1, at most 2^60
+  /// (without the libm call: the conversion truncates).
+  static int64_t stepBefore(double u, int64_t k0) {
     const double x = u - 0.5;
     if (!(x > double(k0 + 1))) return k0 + 1;
     if (!(x < 0x1p60)) return int64_t(1) << 60;
@@ -81,9 +112,11 @@ struct Volume::Sampler {
   std::size_t sy, sz;
   __m128 hi;         // the last point's index per axis (lane 3: 0)
   __m128 lastCell;   // the last cell's first point per axis (lane 3: 0)
+  __m128 hi4[3], lastCell4[3];  // the same per axis in every lane (at4)
   bool nearest;
   const Entry* table;
   float tableMin, tableScale, tableLast;
+  __m128 opaqueLo, opaqueHi;  // Volume::opaqueLo_, opaqueHi_
   explicit Sampler(const Volume& v)
       : s(v.grid.scalars.data()),
         sy(std::size_t(v.grid.dims[0])),
@@ -94,7 +127,14 @@ struct Volume::Sampler {
         table(v.table_.data()),
         tableMin(v.tableMin_),
         tableScale(v.tableScale_),
-        tableLast(v.tableLast_) {}
+        tableLast(v.tableLast_),
+        opaqueLo(_mm_set1_ps(v.opaqueLo_)),
+        opaqueHi(_mm_set1_ps(v.opaqueHi_)) {
+    for (int a = 0; a < 3; ++a) {
+      hi4[a] = _mm_set1_ps(float(v.grid.dims[a] - 1));
+      lastCell4[a] = _mm_set1_ps(float(v.grid.dims[a] - 2));
+    }
+  }
   /// The scalar at index point p (x, y, z in lanes 0..2, lane 3 0), clamped to the grid's points [0, n - 1] (NaN ->
   /// 0). Trilinear: the three axes' weights at once, the four x lerps at once, then the two y lerps (the same
   /// single-precision operations, in the same order, as one lerp at a time).
@@ -114,7 +154,6 @@ struct Volume::Sampler {
     const std::size_t iz = std::size_t(uint32_t(_mm_cvtsi128_si32(_mm_shuffle_epi32(i, _MM_SHUFFLE(2, 2, 2, 2)))));
     const float* c = s + iz * sz + iy * sy + ix;
     // Pairs (c[o], c[o + 1]) at the cell's four x edges o = 0, sy, sz, sz + sy
-    auto pair = [](const float* q) { return _mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(q))); };
     const __m128 e01 = _mm_unpacklo_ps(pair(c), pair(c + sy));            // c0 csy c1 csy1
     const __m128 e23 = _mm_unpacklo_ps(pair(c + sz), pair(c + sz + sy));  // csz cszy csz1 cszy1
     const __m128 a = _mm_movelh_ps(e01, e23), b = _mm_movehl_ps(e23, e01);
@@ -124,6 +163,48 @@ struct Volume::Sampler {
     const __m128 y = _mm_add_ps(y0, _mm_mul_ps(_mm_shuffle_ps(f, f, _MM_SHUFFLE(1, 1, 1, 1)), _mm_sub_ps(y1, y0)));
     const float c0 = _mm_cvtss_f32(y), c1 = _mm_cvtss_f32(_mm_shuffle_ps(y, y, _MM_SHUFFLE(1, 1, 1, 1)));
     return c0 + _mm_cvtss_f32(_mm_shuffle_ps(f, f, _MM_SHUFFLE(2, 2, 2, 2))) * (c1 - c0);
+  }
+  /// at() of four points (lanes: x, y, z of point l in lane l of each) by trilinear interpolation, into out[4]:
+  /// the same single-precision operations per point, so the same values; the 32 reads issued together.
+  void at4(__m128 x, __m128 y, __m128 z, float out[4]) const {
+    const __m128 zero = _mm_setzero_ps();
+    x = _mm_min_ps(_mm_max_ps(x, zero), hi4[0]);
+    y = _mm_min_ps(_mm_max_ps(y, zero), hi4[1]);
+    z = _mm_min_ps(_mm_max_ps(z, zero), hi4[2]);
+    const __m128i ix = _mm_cvttps_epi32(_mm_min_ps(x, lastCell4[0]));
+    const __m128i iy = _mm_cvttps_epi32(_mm_min_ps(y, lastCell4[1]));
+    const __m128i iz = _mm_cvttps_epi32(_mm_min_ps(z, lastCell4[2]));
+    const __m128 fx = _mm_sub_ps(x, _mm_cvtepi32_ps(ix)), fy = _mm_sub_ps(y, _mm_cvtepi32_ps(iy)),
+                 fz = _mm_sub_ps(z, _mm_cvtepi32_ps(iz));
+    alignas(16) int32_t I[3][4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(I[0]), ix);
+    _mm_store_si128(reinterpret_cast<__m128i*>(I[1]), iy);
+    _mm_store_si128(reinterpret_cast<__m128i*>(I[2]), iz);
+    const float* c[4];
+    for (int l = 0; l < 4; ++l)
+      c[l] = s + std::size_t(uint32_t(I[2][l])) * sz + std::size_t(uint32_t(I[1][l])) * sy + std::size_t(uint32_t(I[0][l]));
+    // The x edge at offset off of the four cells: its first and second points across the four points, lerped by fx
+    auto edge = [&](std::size_t off) __attribute__((always_inline)) {
+      const __m128 q01 = _mm_unpacklo_ps(pair(c[0] + off), pair(c[1] + off));  // a0 a1 b0 b1
+      const __m128 q23 = _mm_unpacklo_ps(pair(c[2] + off), pair(c[3] + off));
+      const __m128 a = _mm_movelh_ps(q01, q23), b = _mm_movehl_ps(q23, q01);
+      return _mm_add_ps(a, _mm_mul_ps(fx, _mm_sub_ps(b, a)));
+    };
+    const __m128 c00 = edge(0), c10 = edge(sy), c01 = edge(sz), c11 = edge(sz + sy);
+    const __m128 c0 = _mm_add_ps(c00, _mm_mul_ps(fy, _mm_sub_ps(c10, c00)));
+    const __m128 c1 = _mm_add_ps(c01, _mm_mul_ps(fy, _mm_sub_ps(c11, c01)));
+    _mm_storeu_ps(out, _mm_add_ps(c0, _mm_mul_ps(fz, _mm_sub_ps(c1, c0))));
+  }
+  /// The two floats at q (one 8-byte load) in lanes 0 and 1.
+  static __m128 pair(const float* q) { return _mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(q))); }
+  /// Whether one of the four scalars v may have an opacity above 0 or is NaN (the march's per-scalar test then
+  /// decides); false only when all four are transparent by the table (tableIndex's operations, per lane).
+  bool mayAdd4(const float v[4]) const {
+    const __m128 s4 = _mm_loadu_ps(v);
+    __m128 x = _mm_mul_ps(_mm_sub_ps(s4, _mm_set1_ps(tableMin)), _mm_set1_ps(tableScale));
+    x = _mm_min_ps(_mm_max_ps(x, _mm_setzero_ps()), _mm_set1_ps(tableLast));
+    const __m128 inside = _mm_and_ps(_mm_cmpge_ps(x, opaqueLo), _mm_cmplt_ps(x, opaqueHi));
+    return _mm_movemask_ps(_mm_or_ps(inside, _mm_cmpunord_ps(s4, s4))) != 0;
   }
   /// The fractional table entry index of scalar v, clamped to [0, tableLast] (NaN, an overflowed v - tableMin
   /// times 0, gives 0).
@@ -174,14 +255,13 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
   auto at = [&](float h) { return _mm_add_ps(e, _mm_mul_ps(_mm_set1_ps(h), dF)); };  // the point h after the entry
   const float dtF = float(dt);
   // Accumulated in locals, stored once at the end
-  Color color = acc.color;
+  __m128 color4 = _mm_setr_ps(acc.color.r, acc.color.g, acc.color.b, 0.0f);
   float transmittance = acc.transmittance;
   uint64_t samples = 0, invalid = 0;
   bool terminated = false;
-  // Adds the sample at index point p of a step with alpha from the table (full) or for length h (in ray
-  // parameter units); returns false once the transmittance falls below stopBelow
-  auto add = [&](__m128 p, bool full, double h) __attribute__((always_inline)) {
-    const float s = smp.at(p);
+  // Adds scalar s, sampled at a step's middle, with alpha from the table (full) or for length h (in ray parameter
+  // units); returns false once the transmittance falls below stopBelow
+  auto add = [&](float s, bool full, double h) __attribute__((always_inline)) {
     ++samples;
     if (std::isnan(s)) {
       ++invalid;
@@ -197,18 +277,28 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
     // 1 - (1 - a)^(h / unitDistance), from the table for a full step; a = 1 gives log1p(-1) = -inf and alpha 1
     const float alpha = full ? ea.alphaStep + f * (eb.alphaStep - ea.alphaStep)
                              : float(-std::expm1(std::log1p(-double(opacity)) * h * perUnit));
-    if (emission) color += (transmittance * alpha) * (ea.color + f * (eb.color - ea.color));
+    if (emission) {  // color += (transmittance alpha) (ea.color + f (eb.color - ea.color)), the three at once
+      static_assert(offsetof(Entry, opacity) == 3 * sizeof(float), "colour, then opacity: one 16-byte load");
+      const __m128 a = _mm_loadu_ps(&ea.color.r), b = _mm_loadu_ps(&eb.color.r);  // (lane 3: opacity, unused)
+      const __m128 c = _mm_add_ps(a, _mm_mul_ps(_mm_set1_ps(f), _mm_sub_ps(b, a)));
+      color4 = _mm_add_ps(color4, _mm_mul_ps(_mm_set1_ps(transmittance * alpha), c));
+    }
     transmittance *= 1.0f - alpha;
     return transmittance >= stopBelow;
   };
+  // Four full steps' points at once (trilinear): x, y, z across the steps k .. k + 3
+  const __m128 ex4 = _mm_set1_ps(float(entry.x)), ey4 = _mm_set1_ps(float(entry.y)), ez4 = _mm_set1_ps(float(entry.z));
+  const __m128 dx4 = _mm_set1_ps(float(d.x)), dy4 = _mm_set1_ps(float(d.y)), dz4 = _mm_set1_ps(float(d.z));
+  const __m128 dt4 = _mm_set1_ps(dtF), lanes = _mm_setr_ps(0.5f, 1.5f, 2.5f, 3.5f);
+  const bool four = !smp.nearest;
   const CellLook look(*this, o, d, t0, dt);
-  // Runs of steps sampled without looking at macro cells: without skipping, all of them; with it, a non-empty
-  // cell's steps up to the first that may lie outside it (CellLook::lastInside: steps before lie inside by more
-  // than a step), or, after an empty cell's steps are skipped, the one step the skip lands on (about at the exit)
   // The parameter from the entry to step k's middle
   auto middle = [&](int64_t k) {
     return k < fullEnd ? (float(k) + 0.5f) * dtF : float(0.5 * (t0 + double(k) * dt + t1) - t0);
   };
+  // Runs of steps sampled without looking at macro cells: without skipping, all of them; with it, the steps of a
+  // run of non-empty cells (CellLook::lastInsideRun), or, after an empty cell's steps are skipped, the one step the
+  // skip lands on (about at the exit)
   for (int64_t k = 0; k < steps && !terminated;) {
     int64_t runEnd = steps;
     if (skip) {
@@ -231,9 +321,28 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
     }
     // The run's full steps: the tight loop
     const int64_t fullStop = std::min(runEnd, fullEnd);
+    if (four) {
+      for (; k + 4 <= fullStop && !terminated; k += 4) {
+        // h = (float(k + l) + 0.5f) dt per lane, as below (float(k) + l is exact: k < 2^24)
+        const __m128 h = _mm_mul_ps(_mm_add_ps(_mm_set1_ps(float(k)), lanes), dt4);
+        alignas(16) float v[4];
+        smp.at4(_mm_add_ps(ex4, _mm_mul_ps(h, dx4)), _mm_add_ps(ey4, _mm_mul_ps(h, dy4)),
+                _mm_add_ps(ez4, _mm_mul_ps(h, dz4)), v);
+        if (!smp.mayAdd4(v)) {  // four transparent samples
+          samples += 4;
+          continue;
+        }
+        for (int l = 0; l < 4; ++l)
+          if (!add(v[l], true, 0.0)) {
+            terminated = true;
+            break;
+          }
+      }
+      if (terminated) break;
+    }
     for (; k < fullStop; ++k) {
       const float h = (float(k) + 0.5f) * dtF;
-      if (!add(at(h), true, 0.0)) {
+      if (!add(smp.at(at(h)), true, 0.0)) {
         terminated = true;
         break;
       }
@@ -243,10 +352,12 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
       const double ta = t0 + double(k) * dt;
       if (!(t1 > ta)) continue;
       const float h = float(0.5 * (ta + t1) - t0);
-      if (!add(at(h), false, t1 - ta)) terminated = true;
+      if (!add(smp.at(at(h)), false, t1 - ta)) terminated = true;
     }
   }
-  acc.color = color;
+  alignas(16) float rgb[4];
+  _mm_store_ps(rgb, color4);
+  acc.color = Color(rgb[0], rgb[1], rgb[2]);
   acc.transmittance = transmittance;
   acc.samples += samples;
   acc.invalidSamples += invalid;
