@@ -83,7 +83,7 @@ struct Volume {
   /// counted. Off: every step is sampled (tests compare the two). Default on.
   bool skipEmptySpace = true;
   static constexpr double kMaxSteps = 20000.0;
-  static constexpr int kMacroCell = 8;
+  static constexpr int kMacroCell = 16;
 
   /// Checks and prepares the volume for marching (world bounds, index map, step; transfer functions sorted and
   /// clamped; infinite scalars made NaN). Returns an empty string if it can be traced, else why not (it is then

@@ -34,7 +34,10 @@ struct Volume::CellLook {
         A[a] = kMacroCell / d[a] / dt;
         B[a] = (-o[a] / d[a] - t0) / dt;
         noExit[a] = 0;
-      } else {
+      }
+      if (!(d[a] != 0.0 && std::isfinite(A[a]) && std::isfinite(B[a]))) {
+        // Parallel to the axis's planes, or so nearly that one step moves the point by less than 1e-300 voxels (no
+        // float sample point ever moves along it): no exit
         A[a] = 0.0;
         B[a] = kInfinity;
         noExit[a] = -1;
@@ -71,28 +74,33 @@ struct Volume::CellLook {
   /// order needs no exactness at edges and corners, since it only decides where the march looks again (a step in a
   /// cell it missed adds nothing if that cell is empty).
   int64_t lastInsideRun(const int cell[3], int64_t k0) const {
-    int c[3] = {cell[0], cell[1], cell[2]};
-    double u[3];
-    for (int a = 0; a < 3; ++a) u[a] = exitOf(c, a);
+    // Branch-free per cell (the axis of the nearest exit changes from cell to cell unpredictably), in scalars
+    int cx = cell[0], cy = cell[1], cz = cell[2];
+    double ux = exitOf(cell, 0), uy = exitOf(cell, 1), uz = exitOf(cell, 2);
+    const int sx = A[0] > 0.0 ? 1 : -1, sy = A[1] > 0.0 ? 1 : -1, sz = A[2] > 0.0 ? 1 : -1;
+    const std::size_t nx = std::size_t(v.macroDims_[0]), nxy = nx * std::size_t(v.macroDims_[1]);
     for (int n = 0;; ++n) {
-      const int a = u[0] <= u[1] ? (u[0] <= u[2] ? 0 : 2) : (u[1] <= u[2] ? 1 : 2);
+      const bool yFirst = uy < ux;
+      const double nearXY = yFirst ? uy : ux;
+      const bool z = uz < nearXY;
+      const double u = z ? uz : nearXY;
       // The last cell on every axis the ray moves along, or as far as one look goes (a ray may end before)
-      if (!(u[a] < kInfinity) || n == kRunCells) return stepBefore(u[a], k0);
-      c[a] += A[a] > 0.0 ? 1 : -1;
-      if (v.macroEmpty_[(std::size_t(c[2]) * std::size_t(v.macroDims_[1]) + std::size_t(c[1])) *
-                            std::size_t(v.macroDims_[0]) +
-                        std::size_t(c[0])])
-        return stepBefore(u[a], k0);
-      u[a] = exitOf(c, a);
+      if (!(u < kInfinity) || n == kRunCells) return stepBefore(u, k0);
+      const bool x = !z && !yFirst, y = !z && yFirst;
+      cx += x ? sx : 0;
+      cy += y ? sy : 0;
+      cz += z ? sz : 0;
+      if (v.macroEmpty_[std::size_t(cz) * nxy + std::size_t(cy) * nx + std::size_t(cx)]) return stepBefore(u, k0);
+      const double ex = cx != noExit[0] ? double(cx) * A[0] + B[0] : kInfinity;
+      const double ey = cy != noExit[1] ? double(cy) * A[1] + B[1] : kInfinity;
+      const double ez = cz != noExit[2] ? double(cz) * A[2] + B[2] : kInfinity;
+      ux = x ? ex : ux;
+      uy = y ? ey : uy;
+      uz = z ? ez : uz;
     }
   }
-  /// The ray's exit from cell c across axis a, in steps after t0: +inf when the ray does not leave it that way. (A
-  /// NaN exit, 0 x inf or inf - inf, comes from a direction component so small that the plane lies beyond any
-  /// step: +inf too.)
-  double exitOf(const int c[3], int a) const {
-    const double u = double(c[a]) * A[a] + B[a];
-    return c[a] != noExit[a] && !std::isnan(u) ? u : kInfinity;
-  }
+  /// The ray's exit from cell c across axis a, in steps after t0: +inf when the ray does not leave it that way.
+  double exitOf(const int c[3], int a) const { return c[a] != noExit[a] ? double(c[a]) * A[a] + B[a] : kInfinity; }
   /// ceil(u - 1/2) - 1 (the step before the first whose middle may lie past u), at least k0 + 1, at most 2^60
   /// (without the libm call: the conversion truncates).
   static int64_t stepBefore(double u, int64_t k0) {

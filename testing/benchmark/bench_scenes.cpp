@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <limits>
 
 namespace whitted::bench {
 
@@ -263,6 +264,42 @@ void buildVolume(BenchScene& out, int n, bool skip) {
   out.camera.viewAngle = 35.0;
 }
 
+/// The volume of testing/benchmark/vtk_volume_bench.py with its effects off, for paired runs without VTK: vtkRTAnalyticSource's
+/// field with its defaults (Maximum 255, standard deviation 0.5, frequencies 60 30 40, magnitudes 10 18 5) over the
+/// extent -n/2 .. n/2 - 1, spacing 1; cool-warm colour over the range, opacity 0 up to 130 and 0.2 at the top per
+/// unit distance 1; sample distance 1; no surface, no light; the script's camera.
+void buildWavelet(BenchScene& out, int n) {
+  const int half = n / 2, dims[3] = {n, n, n};
+  std::vector<float> s(std::size_t(n) * n * n);
+  const double scale = 1.0 / double(n - 1), inv2s2 = 1.0 / (2.0 * 0.5 * 0.5);
+  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double x = -double(i - half) * scale, y = -double(j - half) * scale, z = -double(k - half) * scale;
+        const float v = float(255.0 * std::exp(-(x * x + y * y + z * z) * inv2s2) + 10.0 * std::sin(60.0 * x) +
+                              18.0 * std::sin(30.0 * y) + 5.0 * std::cos(40.0 * z));
+        s[(std::size_t(k) * n + j) * n + i] = v;
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+      }
+  Volume v;
+  v.grid = VolumeGrid::fromScalars(dims, s.data());
+  v.grid.origin = Vec3(-double(half));
+  v.transfer.opacityX = {lo, 130.0f, hi};
+  v.transfer.opacityY = {0.0f, 0.0f, 0.2f};
+  v.transfer.colorX = {lo, 0.5f * (lo + hi), hi};
+  v.transfer.colorY = {Color(0.23f, 0.3f, 0.75f), Color(0.87f, 0.87f, 0.87f), Color(0.71f, 0.02f, 0.15f)};
+  v.transfer.unitDistance = 1.0;
+  v.sampleDistance = 1.0;
+  out.scene.addVolume(std::move(v));
+  out.scene.background = Color(0.32f, 0.34f, 0.43f);
+  out.camera.eye = Vec3(2.4 * half, 1.8 * half, 4.8 * half);
+  out.camera.focal = Vec3(0.0);
+  out.camera.up = Vec3(0.0, 1.0, 0.0);
+  out.camera.viewAngle = 30.0;
+}
+
 /// Rounds every coordinate and radius of every object to single precision (see the header comment).
 void roundSceneToFloat(Scene& scene) {
   for (uint32_t o = 0; o < scene.objectCount(); ++o) {
@@ -423,6 +460,11 @@ bool buildNamed(const std::string& name, const std::vector<std::string>& dataDir
   if (name == "glassmirror") {
     buildGlassMirror(out);
     out.description = "glass and mirror balls between two facing mirrors (deep recursion)";
+    return true;
+  }
+  if (name == "wavelet256" || name == "wavelet64") {
+    buildWavelet(out, name == "wavelet256" ? 256 : 64);
+    out.description = name.substr(7) + "^3 vtkRTAnalyticSource-like volume of vtk_volume_bench.py, effects off";
     return true;
   }
   if (name == "volume256" || name == "volume64" || name == "volume256-noskip" || name == "volume64-noskip") {

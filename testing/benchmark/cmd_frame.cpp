@@ -39,7 +39,8 @@ int cmdFrame(const Args& a) {
                                "error_estimate_rms",
                                "primitives",
                                "cpu_seconds_median",
-                               "pixels_supersampled"});
+                               "pixels_supersampled",
+                               "volume_samples"});
   SceneStats st = bs.scene.stats();
   std::size_t prims = st.triangles + st.spheres + st.tubes;
   for (const std::string& sz : a.list("sizes", "800x600")) {
@@ -79,16 +80,18 @@ int cmdFrame(const Args& a) {
                fmt(fs.total.rms),
                fmt(prims),
                fmt(tc.median),
-               fmt(fs.pixelsSupersampled)});
+               fmt(fs.pixelsSupersampled),
+               fmt(fs.rays.volumeSamples)});
       std::printf(
           "%-10s %-12s %4dx%-4d %d thr: trace %9.2f ms (min %.2f, max %.2f), cpu %.2f ms, commit %.1f ms, "
-          "%.2f Mrays/s%s\n",
+          "%.2f Mrays/s%s%s\n",
           tag.c_str(), bs.name.c_str(), w, h, threads, t.median * 1e3, t.min * 1e3, t.max * 1e3, tc.median * 1e3,
           commitSeconds * 1e3, fs.rays.traced() / t.median * 1e-6,
           rs.adaptive
               ? (", supersampled " + std::to_string(fs.pixelsSupersampled) + " of " + std::to_string(w * h) + " pixels")
                     .c_str()
-              : "");
+              : "",
+          fs.rays.volumeSamples ? (", " + std::to_string(fs.rays.volumeSamples) + " volume samples").c_str() : "");
       std::fflush(stdout);
       if (a.has("png")) savePng(a.str("png"), fb);
     }
