@@ -13,6 +13,7 @@ def config(quick):
             pov_sizes=["160x120"], pov_reps=1, frame_reps=2,
             vtk_scene="iso60k", vtk_size="256x256", vtk_reps=2, vtk_pairs=[(0, 1), (8, 8)],
             glyph_counts=[1000], glyph_size="160x120", glyph_reps=1,
+            vol_dims=32, vol_size="160x120", vol_reps=1,
             scaling_tri=["iso60k"], scaling_size_scene="classic", scaling_sizes=["64x48", "128x96"],
             scaling_thread_scenes=["classic"], scaling_thread_size="128x96",
             update_scene="iso60k", update_size="96x72", update_reps=1,
@@ -31,6 +32,7 @@ def config(quick):
         # MSAA 8 against 8 samples (MSAA shades once per pixel, so 8 spp does more work for its edges)
         vtk_scene="iso1m", vtk_size="1024x1024", vtk_reps=10, vtk_pairs=[(0, 1), (8, 8)],
         glyph_counts=[10000, 100000, 1000000], glyph_size="1024x768", glyph_reps=3,
+        vol_dims=256, vol_size="1024x768", vol_reps=5,
         scaling_tri=["iso60k", "iso1m", "iso4m"], scaling_size_scene="iso1m",
         scaling_sizes=["256x192", "512x384", "1024x768", "2048x1536"],
         scaling_thread_scenes=["classic", "iso1m", "tubes"], scaling_thread_size="1024x768",

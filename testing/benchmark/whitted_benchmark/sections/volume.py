@@ -1,0 +1,100 @@
+"""Volumes (issue 29): a vtkRTAnalyticSource volume rendered by VTK's vtkGPUVolumeRayCastMapper (llvmpipe here) and
+vtkFixedPointVolumeRayCastMapper, and traced by vtkWhittedPass with its effects off, with shadows on a floor and
+with a mirror floor (vtk_volume_bench.py): first frame, frame after a camera turn, peak memory; each mode in a
+process of its own."""
+import os
+import shutil
+
+from ..markdown import commands_block, fmt_ratio, md_table, ms, ratio
+from ..runner import HERE, VTK_PYTHON, XVFB, find_whitted_pythonpath, fresh, have_vtk, read_csv
+
+MODES = ["gpu", "fixedpoint", "whitted", "whitted-shadow", "whitted-mirror"]
+LABELS = {"gpu": "VTK vtkGPUVolumeRayCastMapper (llvmpipe)",
+          "fixedpoint": "VTK vtkFixedPointVolumeRayCastMapper",
+          "whitted": "vtkWhittedPass, effects off",
+          "whitted-shadow": "vtkWhittedPass, floor and shadows",
+          "whitted-mirror": "vtkWhittedPass, mirror floor and shadows"}
+
+
+def _tools_ok():
+    return shutil.which("xvfb-run") and have_vtk()
+
+
+def run(ctx):
+    c = ctx.cfg
+    path = fresh(ctx.path("volume.csv"))
+    if not _tools_ok():
+        ctx.notes.append("xvfb-run or VTK Python missing: volume comparison skipped")
+        return
+    env = dict(os.environ)
+    wpath = find_whitted_pythonpath(ctx.args)
+    if wpath:
+        env["PYTHONPATH"] = wpath + os.pathsep + env.get("PYTHONPATH", "")
+    # The anchors and the effects-off trace twice, interleaved (the machine's speed drifts between runs)
+    order = MODES + ["gpu", "fixedpoint", "whitted"] if not c["quick"] else MODES
+    for mode in order:
+        cmd = XVFB + [VTK_PYTHON, os.path.join(HERE, "vtk_volume_bench.py"), "--modes", mode,
+                      "--dims", str(c["vol_dims"]), "--size", c["vol_size"], "--reps", str(c["vol_reps"]),
+                      "--csv", path]
+        rc, _, _ = ctx.runner.run(cmd, "volume %s" % mode, env=env, check=False, timeout=1800)
+        if rc != 0:
+            ctx.notes.append("volume %s failed (exit %d), see logs/" % (mode, rc))
+
+
+def outputs(ctx):
+    return ["volume.csv"] if _tools_ok() else []
+
+
+def _median_row(rows, mode):
+    """The row of mode with the median frame time (of its runs in this results folder), or None."""
+    sel = sorted((r for r in rows if r["mode"] == mode and r["status"] == "ok"), key=lambda r: r["seconds_median"])
+    return sel[(len(sel) - 1) // 2] if sel else None
+
+
+def report(ctx, head):
+    rows = read_csv(ctx.path("volume.csv"))
+    if not rows:
+        return []
+    r0 = rows[0]
+    L = ["\n## Volumes against VTK's volume mappers\n",
+         "A %s vtkRTAnalyticSource volume (cool-warm colour over its range; opacity 0 up to 130, 0.2 at the top per "
+         "unit distance 1: the rim of the cube is transparent), sample distance 1 (the voxel spacing, automatic "
+         "adjustment off), trilinear, %dx%d, one light (`testing/benchmark/vtk_volume_bench.py`). vtkWhittedPass "
+         "traces the GPU mapper's vtkVolume at 1 sample per pixel; 'effects off' has no floor, no shadows, no "
+         "reflections (like for like with the mappers); the other two add a floor under the volume with shadows, "
+         "then make it a mirror (kr 0.6). First frame = the first Render() (upload or conversion); frame = median "
+         "over %s frames after a 0.5 degree azimuth each; wall and CPU seconds of the process (llvmpipe and the "
+         "tracer both use its threads); memory = the process's peak resident size. Each mode runs in a process of "
+         "its own; the anchors and the effects-off trace run twice, interleaved, and the run with the median frame "
+         "is shown.\n" % (r0["dims"], r0["width"], r0["height"], r0["runs"])]
+    tab = []
+    for r in rows:
+        if r["status"] != "ok":
+            tab.append([LABELS.get(r["mode"], r["mode"]), "", "", "", r["status"]])
+            continue
+        tab.append([LABELS.get(r["mode"], r["mode"]),
+                    ms(r["first_frame_seconds"]),
+                    "%s / %s" % (ms(r["seconds_median"]), ms(r["cpu_seconds_median"])),
+                    "%.0f" % r["peak_rss_mb"], r["status"]])
+    L.append(md_table(["renderer", "first frame ms (wall)", "frame ms (wall / CPU)", "peak memory MB",
+                       "status"], tab))
+    w = _median_row(rows, "whitted")
+    anchors = [a for a in (_median_row(rows, "gpu"), _median_row(rows, "fixedpoint")) if a]
+    if w and anchors:
+        best = min(anchors, key=lambda a: a["seconds_median"])
+        head.append(["%s volume, vtkWhittedPass (effects off) vs %s, %dx%d; memory %.0f MB vs %.0f MB" % (
+                         w["dims"], "the faster VTK mapper (%s)" % LABELS[best["mode"]], w["width"], w["height"],
+                         w["peak_rss_mb"], best["peak_rss_mb"]),
+                     "%s ms" % ms(w["seconds_median"]), "%s ms" % ms(best["seconds_median"]),
+                     fmt_ratio(ratio(best["seconds_median"], w["seconds_median"])),
+                     fmt_ratio(ratio(best["cpu_seconds_median"], w["cpu_seconds_median"]))])
+        costs = []
+        for mode in ("whitted-shadow", "whitted-mirror"):
+            e = _median_row(rows, mode)
+            if e:
+                costs.append("%s: %.2fx the effects-off frame" % (LABELS[mode],
+                                                                  e["seconds_median"] / w["seconds_median"]))
+        if costs:
+            L.append("\nCost of each effect: " + "; ".join(costs) + ".\n")
+    L.append(commands_block(ctx, "volume"))
+    return L
