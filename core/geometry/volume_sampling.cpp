@@ -205,14 +205,18 @@ struct Volume::Sampler {
   }
   /// The two floats at q (one 8-byte load) in lanes 0 and 1.
   static __m128 pair(const float* q) { return _mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(q))); }
-  /// Whether one of the four scalars v may have an opacity above 0 or is NaN (the march's per-scalar test then
-  /// decides); false only when all four are transparent by the table (tableIndex's operations, per lane).
-  bool mayAdd4(const float v[4]) const {
+  /// For four scalars v: the mask of those that may have an opacity above 0 or are NaN (the others are transparent
+  /// by the table: their entries and the next are 0, so is the lerp), and each one's table entry i[l] and weight
+  /// f[l] (tableIndex's operations and the march's conversions, per lane).
+  unsigned mayAdd4(const float v[4], int32_t i[4], float f[4]) const {
     const __m128 s4 = _mm_loadu_ps(v);
     __m128 x = _mm_mul_ps(_mm_sub_ps(s4, _mm_set1_ps(tableMin)), _mm_set1_ps(tableScale));
     x = _mm_min_ps(_mm_max_ps(x, _mm_setzero_ps()), _mm_set1_ps(tableLast));
+    const __m128i xi = _mm_cvttps_epi32(x);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(i), xi);
+    _mm_storeu_ps(f, _mm_sub_ps(x, _mm_cvtepi32_ps(xi)));
     const __m128 inside = _mm_and_ps(_mm_cmpge_ps(x, opaqueLo), _mm_cmplt_ps(x, opaqueHi));
-    return _mm_movemask_ps(_mm_or_ps(inside, _mm_cmpunord_ps(s4, s4))) != 0;
+    return unsigned(_mm_movemask_ps(_mm_or_ps(inside, _mm_cmpunord_ps(s4, s4))));
   }
   /// The fractional table entry index of scalar v, clamped to [0, tableLast] (NaN, an overflowed v - tableMin
   /// times 0, gives 0).
@@ -269,17 +273,12 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
   bool terminated = false;
   // Adds scalar s, sampled at a step's middle, with alpha from the table (full) or for length h (in ray parameter
   // units); returns false once the transmittance falls below stopBelow
-  auto add = [&](float s, bool full, double h) __attribute__((always_inline)) {
-    ++samples;
-    if (std::isnan(s)) {
-      ++invalid;
-      return true;
-    }
-    // The table entry: opacity first (most samples of a partly transparent cell have none)
-    const float x = smp.tableIndex(s);
-    const int i = int(x);  // (x in [0, kTableSize - 1]: an int conversion, cheaper than one to size_t)
-    const float f = x - float(i);
+  // Adds the sample whose table entry is i, weight f (Sampler::tableIndex), at a step's middle, with alpha from
+  // the table (full) or for length h (in ray parameter units); returns false once the transmittance falls below
+  // stopBelow
+  auto addEntry = [&](int i, float f, bool full, double h) __attribute__((always_inline)) {
     const Entry &ea = smp.table[i], &eb = smp.table[i + 1];  // (the last entry is repeated: i + 1 is in the table)
+    // Opacity first (most samples of a partly transparent cell have none)
     const float opacity = ea.opacity + f * (eb.opacity - ea.opacity);
     if (opacity <= 0.0f) return true;
     // 1 - (1 - a)^(h / unitDistance), from the table for a full step; a = 1 gives log1p(-1) = -inf and alpha 1
@@ -293,6 +292,17 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
     }
     transmittance *= 1.0f - alpha;
     return transmittance >= stopBelow;
+  };
+  // Adds scalar s sampled at a step's middle (addEntry)
+  auto add = [&](float s, bool full, double h) __attribute__((always_inline)) {
+    ++samples;
+    if (std::isnan(s)) {
+      ++invalid;
+      return true;
+    }
+    const float x = smp.tableIndex(s);
+    const int i = int(x);  // (x in [0, kTableSize - 1]: an int conversion, cheaper than one to size_t)
+    return addEntry(i, x - float(i), full, h);
   };
   // Four full steps' points at once (trilinear): x, y, z across the steps k .. k + 3
   const __m128 ex4 = _mm_set1_ps(float(entry.x)), ey4 = _mm_set1_ps(float(entry.y)), ez4 = _mm_set1_ps(float(entry.z));
@@ -336,15 +346,25 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
         alignas(16) float v[4];
         smp.at4(_mm_add_ps(ex4, _mm_mul_ps(h, dx4)), _mm_add_ps(ey4, _mm_mul_ps(h, dy4)),
                 _mm_add_ps(ez4, _mm_mul_ps(h, dz4)), v);
-        if (!smp.mayAdd4(v)) {  // four transparent samples
+        alignas(16) int32_t i[4];
+        alignas(16) float f[4];
+        const unsigned may = smp.mayAdd4(v, i, f);
+        if (may == 0) {  // four transparent samples
           samples += 4;
           continue;
         }
-        for (int l = 0; l < 4; ++l)
-          if (!add(v[l], true, 0.0)) {
+        for (int l = 0; l < 4; ++l) {
+          ++samples;
+          if (!(may >> l & 1)) continue;  // transparent
+          if (std::isnan(v[l])) {
+            ++invalid;
+            continue;
+          }
+          if (!addEntry(i[l], f[l], true, 0.0)) {
             terminated = true;
             break;
           }
+        }
       }
       if (terminated) break;
     }
