@@ -25,19 +25,16 @@ struct Volume::CellLook {
         lastCell(_mm_setr_ps(float(vol.macroDims_[0] - 1), float(vol.macroDims_[1] - 1), float(vol.macroDims_[2] - 1),
                              0.0f)) {
     for (int a = 0; a < 3; ++a) {
-      const int last = v.macroDims_[a] - 1;
-      if (d[a] > 0.0) {
-        A[a] = kMacroCell / d[a] / dt;
-        B[a] = ((kMacroCell - o[a]) / d[a] - t0) / dt;
-        noExit[a] = last;
-      } else if (d[a] < 0.0) {
-        A[a] = kMacroCell / d[a] / dt;
-        B[a] = (-o[a] / d[a] - t0) / dt;
-        noExit[a] = 0;
-      }
-      if (!(d[a] != 0.0 && std::isfinite(A[a]) && std::isfinite(B[a]))) {
-        // Parallel to the axis's planes, or so nearly that one step moves the point by less than 1e-300 voxels (no
-        // float sample point ever moves along it): no exit
+      // Toward +x the far plane of cell c is (c + 1) K, toward -x it is c K
+      const double A0 = kMacroCell / d[a] / dt;
+      const double B0 = d[a] > 0.0 ? ((kMacroCell - o[a]) / d[a] - t0) / dt : (-o[a] / d[a] - t0) / dt;
+      if (d[a] != 0.0 && std::isfinite(A0) && std::isfinite(B0)) {
+        A[a] = A0;
+        B[a] = B0;
+        noExit[a] = d[a] > 0.0 ? v.macroDims_[a] - 1 : 0;
+      } else {
+        // Parallel to the axis's planes (or NaN), or so nearly that a step moves the point by less than 1e-300
+        // voxels (no float sample point ever moves along it): no exit
         A[a] = 0.0;
         B[a] = kInfinity;
         noExit[a] = -1;
@@ -45,7 +42,7 @@ struct Volume::CellLook {
     }
   }
   /// The macro cell of index point p (x, y, z in lanes 0..2; clamped to the grid's cells, as the sampler clamps
-  /// the point; x / 8 is exact) as an index into the cell arrays, and in cell[3].
+  /// the point; x / kMacroCell is exact) as an index into the cell arrays, and in cell[3].
   std::size_t cellOf(__m128 p, int cell[3]) const {
     const __m128 q = _mm_min_ps(_mm_max_ps(_mm_mul_ps(p, _mm_set1_ps(1.0f / kMacroCell)), _mm_setzero_ps()), lastCell);
     alignas(16) int32_t c[4];

@@ -28,6 +28,7 @@ int cmdError(const Args& a);   ///< error against a high-quality reference vs ru
 int cmdTarget(const Args& a);  ///< TargetError's calibrated estimate against an independent truth
 int cmdPov(const Args& a);     ///< writes a scene as POV-Ray 3.7 scene description
 int cmdDiff(const Args& a);    ///< image difference of two PNG files
+int cmdSteps(const Args& a);   ///< volume step study: error against a fine step, and time, per sample distance
 
 /// Builds the scene named by --scene (default classic) from the --data directories; prints the error and returns
 /// false on failure.

@@ -31,10 +31,10 @@ struct Command {
   int (*run)(const Args&);
 };
 
-constexpr Command kCommands[] = {{"info", cmdInfo},     {"rays", cmdRays},   {"build", cmdBuild},
-                                 {"frame", cmdFrame},   {"update", cmdUpdate}, {"error", cmdError},
-                                 {"mesh", cmdMesh},     {"pov", cmdPov},     {"diff", cmdDiff},
-                                 {"target", cmdTarget}};
+constexpr Command kCommands[] = {{"info", cmdInfo},   {"rays", cmdRays},     {"build", cmdBuild},
+                                 {"frame", cmdFrame}, {"update", cmdUpdate}, {"error", cmdError},
+                                 {"mesh", cmdMesh},   {"pov", cmdPov},       {"diff", cmdDiff},
+                                 {"steps", cmdSteps}, {"target", cmdTarget}};
 
 int usage() {
   std::fprintf(stderr, "usage: whitted_bench");

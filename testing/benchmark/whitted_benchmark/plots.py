@@ -377,3 +377,30 @@ def estimate(ctx, err):
     fig.tight_layout(rect=[0, 0, 1, 0.95])
     fig.savefig(ctx.path("error_estimate.png"))
     plt.close(fig)
+
+
+def volume_steps(ctx, rows):
+    """The volume step study: error against the reference step, by step and by frame time (log-log)."""
+    plt = plt_module()
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
+    rows = sorted(rows, key=lambda r: -r["step"])
+    step = [r["step"] for r in rows]
+    err = [max(r["rmse"], 1e-9) for r in rows]
+    ms = [r["seconds_median"] * 1e3 for r in rows]
+    a1.loglog(step, err, "o-", label="RMSE against step %g" % rows[0]["reference_step"])
+    # Second order: error proportional to step^2 through the largest step
+    a1.loglog(step, [err[0] * (s / step[0]) ** 2 for s in step], "--", color="grey", label="slope 2")
+    a1.set_xlabel("sample distance (world units)")
+    a1.set_ylabel("RMSE (linear RGB)")
+    a1.legend()
+    a2.loglog(ms, err, "o-")
+    for s, x, y in zip(step, ms, err):
+        a2.annotate("%g" % s, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=8)
+    a2.set_xlabel("frame ms (median, %s threads)" % rows[0]["threads"])
+    a2.set_ylabel("RMSE (linear RGB)")
+    for ax in (a1, a2):
+        plain_log_ticks(ax)
+    fig.suptitle("Volume step: %s %dx%d" % (rows[0]["scene"], rows[0]["width"], rows[0]["height"]))
+    fig.tight_layout()
+    fig.savefig(ctx.path("volume_steps.png"))
+    plt.close(fig)
