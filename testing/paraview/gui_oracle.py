@@ -1,6 +1,6 @@
-"""Independent checks of the GUI playback tests (paraview.gui, paraview.gui.selection).
+"""Independent checks of the GUI playback tests (paraview.gui, paraview.gui.selection, paraview.gui.volume).
 
-The playbacks (gui_whitted.xml.in, gui_selection.xml.in) build their scene with the GUI's menus, panels and mouse,
+The playbacks (gui_whitted.xml.in, gui_selection.xml.in, gui_volume.xml.in) build their scene with the GUI's menus, panels and mouse,
 then type one command into View > Python Shell: gui_oracle.main(kind, result), which checks the view the GUI made
 against ParaView's own Render View, made here with the same sources, colouring, light kit, background and camera,
 and writes "ok" or the failures to result (run_gui_test.py fails the test unless it reads "ok"). The playback's
@@ -9,6 +9,11 @@ committed baseline stays beside it as a change guard.
 - "whitted": the Whitted view with its effects off (no shadows, reflections or refractions) equals the Render View's
   raster on the pixels the Whitted Surface sphere does not cover and away from edges (RENDER_VIEW tolerance); with
   its effects on, those pixels only darken (the sphere's shadow on the plane, which must be there).
+- "volume": the Wavelet the GUI shows as Volume is traced (the frame report: one volume traced, no prop left to
+  OpenGL), the mirror floor shows it (pixels outside its direct footprint change when it is shown: only its
+  reflection can change them), and a colour-map edit converts no grid, updates one transfer function and changes
+  the reflection in the next frame (ParaView's Render View cannot reflect: paraview.volume compares the volume itself
+  with it, in pvbatch).
 - "selection": the cells the rubber band selected in the Whitted view (the hardware selector) lie between the
   Render View's selections with the same rectangle shrunk and grown by 2 pixels (rounding of the playback's
   fractional mouse positions), and the highlighted image with effects off equals the Render View's raster of the
@@ -158,6 +163,71 @@ def check_whitted(tmp, report):
     SetActiveView(view)
 
 
+def _volume_report(view):
+    """(volumes traced, grids converted, transfer updates, props drawn by OpenGL) of the view's last frame, or
+    None."""
+    import re
+
+    view.UpdatePropertyInformation()
+    m = re.search(r"(\d+) volumes traced \((\d+) converted, (\d+) transfer updates\), (\d+) props drawn by OpenGL",
+                  view.GetProperty("LastFrameReport").GetData())
+    return tuple(int(g) for g in m.groups()) if m else None
+
+
+def check_volume(tmp, report):
+    import numpy as np
+    import whitted_pvtest as pvt
+    from paraview.simple import (GetActiveView, GetColorTransferFunction, GetDisplayProperties, GetSources, Hide,
+                                 Render, Show)
+
+    view = GetActiveView()
+    report(view.GetXMLName() == "WhittedRayTraceView", "the active view is a Whitted view (%s)" % view.GetXMLName())
+    size = (300, 300)
+    legends = _hide_legends(view)
+    sources = {src.SMProxy.GetXMLName(): src for src in GetSources().values()}
+    wavelet, floor = sources.get("RTAnalyticSource"), sources.get("PlaneSource")
+    report(wavelet is not None and floor is not None, "the GUI made a Wavelet and a Plane (%s)" % sorted(sources))
+    wd = GetDisplayProperties(wavelet, view=view)
+    report(wd.Representation == "Volume", "the Wavelet is shown as Volume (%s)" % wd.Representation)
+
+    def shot(name):
+        return pvt.screenshot(view, os.path.join(tmp, "gui_volume_%s.png" % name), size)
+
+    with_volume = shot("mirror")
+    frame = _volume_report(view)
+    report(frame is not None and frame[0] == 1 and frame[3] == 0, "the volume is traced, nothing drawn by OpenGL "
+           "(frame report: %s)" % (frame,))
+    # Its direct footprint: the volume alone against nothing shown, dilated by 3 pixels
+    Hide(floor, view)
+    alone = shot("alone")
+    Hide(wavelet, view)
+    empty = shot("empty")
+    Show(wavelet, view)
+    footprint = pvt.dilate(np.abs(alone - empty).max(axis=2) > 3, 3)
+    report(footprint.sum() > 2000, "the volume covers %d pixels" % footprint.sum())
+    Show(floor, view)
+    Hide(wavelet, view)
+    without = shot("mirror_hidden")
+    Show(wavelet, view)
+    reflection = (np.abs(with_volume - without).max(axis=2) > 8) & ~footprint
+    report(reflection.sum() > 1000, "the mirror shows the volume: %d pixels outside its footprint change when it is "
+           "shown" % reflection.sum())
+    # A colour-map edit: the next frame updates the transfer function only, and the reflection changes
+    shot("settled")
+    lut = GetColorTransferFunction(wd.ColorArrayName.GetArrayName())
+    lut.ApplyPreset("Viridis (matplotlib)", True)
+    Render(view)  # the next frame (a screenshot renders more than one)
+    frame = _volume_report(view)
+    edited = shot("edited")
+    report(frame is not None and frame[1] == 0 and frame[2] == 1, "the colour-map edit converts no grid and updates "
+           "one transfer function (frame report: %s)" % (frame,))
+    changed = int(((np.abs(edited - with_volume).max(axis=2) > 8) & reflection).sum())
+    report(changed > 0.3 * reflection.sum(), "the edit shows in the mirror in the next frame (%d of %d reflection "
+           "pixels change)" % (changed, reflection.sum()))
+    for bar in legends:
+        bar.Visibility = 1
+
+
 def _hide_legends(view):
     """Hides the colour legends shown in view; returns them (to show them again)."""
     bars = []
@@ -239,7 +309,7 @@ def check_selection(tmp, report):
 
 
 def main(kind, result):
-    """Runs the checks of kind ("whitted" or "selection") and writes "ok" or the failures to result."""
+    """Runs the checks of kind ("whitted", "selection" or "volume") and writes "ok" or the failures to result."""
     failures, log = [], []
 
     def report(ok, message):
@@ -254,9 +324,14 @@ def main(kind, result):
 
             GetActiveView().ShadingErrorForTesting = perturb
             log.append("negative control: ShadingErrorForTesting %d" % perturb)
+        if os.environ.get("WHITTED_GUI_ORACLE_NO_REFLECTIONS"):  # negative control: the mirror cannot show anything
+            from paraview.simple import GetActiveView
+
+            GetActiveView().Reflections = 0
+            log.append("negative control: the view's reflections off")
         tmp = os.path.abspath(result) + ".images"  # per result file: a test and its control may run at once
         os.makedirs(tmp, exist_ok=True)
-        {"whitted": check_whitted, "selection": check_selection}[kind](tmp, report)
+        {"whitted": check_whitted, "selection": check_selection, "volume": check_volume}[kind](tmp, report)
     except Exception:  # noqa: BLE001 - any error is a failure of the test, written where run_gui_test.py reads it
         failures.append("exception:\n" + traceback.format_exc())
     with open(result, "w") as f:  # the verdict first (run_gui_test.py reads it), then every check
