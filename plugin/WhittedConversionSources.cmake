@@ -16,6 +16,7 @@ set(whitted_conversion_sources
   vtkWhittedGlyphConverter.cxx     # vtkGlyph3DMapper -> one instance per glyph
   vtkWhittedGlyphPlacement.cxx     # where VTK places each glyph of a vtkGlyph3DMapper
   vtkWhittedVolumeConverter.cxx    # vtkVolume (image data, ray-cast mappers) -> scene volumes
+  vtkWhittedVolumeResampled.cxx    #   an unstructured grid's volume resampled to image data
   vtkWhittedTextureCache.cxx       # vtkTexture -> scene textures
   vtkWhittedMaterialKeys.cxx       # the Whitted information keys (public header: module/CMakeLists.txt)
   vtkWhittedMaterials.cxx          # vtkProperty + Whitted keys -> material
@@ -34,6 +35,7 @@ set(whitted_conversion_headers
   vtkWhittedGlyphConverter.h
   vtkWhittedGlyphPlacement.h
   vtkWhittedVolumeConverter.h
+  vtkWhittedVolumeResampled.h
   vtkWhittedTextureCache.h
   vtkWhittedMaterials.h
   vtkWhittedLights.h

@@ -1,5 +1,6 @@
 // VTK-HeaderTest-Exclude: vtkWhittedVolumeConverter.h
 #include "vtkWhittedVolumeConverter.h"
+#include "vtkWhittedVolumeResampled.h"
 
 #include "vtkWhittedMatrix.h"
 #include "vtkWhittedWarnings.h"
@@ -15,6 +16,8 @@
 #include "vtkMatrix4x4.h"
 #include "vtkMultiBlockVolumeMapper.h"
 #include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+#include "vtkUnstructuredGridVolumeMapper.h"
 #include "vtkPlaneCollection.h"
 #include "vtkSmartVolumeMapper.h"
 #include "vtkVolume.h"
@@ -26,6 +29,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -65,11 +69,55 @@ bool GradientOpacityActive(vtkVolumeProperty* p)
   return false;
 }
 
-// Why the tracer leaves this volume to OpenGL (empty: it traces it). Sets image and array.
-std::string Unsupported(vtkVolume* volume, vtkImageData*& image, vtkDataArray*& array)
+// Why the tracer cannot trace a volume with this property (empty: it can)
+std::string UnsupportedProperty(vtkVolumeProperty* p)
+{
+  if (p->GetShade(0))
+  {
+    return "Shade on (only unshaded emission-absorption is traced)";
+  }
+  if (p->GetTransferFunctionMode() != vtkVolumeProperty::TF_1D)
+  {
+    return "2D transfer function";
+  }
+  if (GradientOpacityActive(p))
+  {
+    return "gradient opacity";
+  }
+  return std::string();
+}
+
+// Why the tracer leaves this volume to OpenGL (empty: it traces it). Sets image and array (an unstructured-grid
+// mapper's input resampled into resampled).
+std::string Unsupported(
+  vtkVolume* volume, vtkWhittedVolumeResampled& resampled, vtkImageData*& image, vtkDataArray*& array)
 {
   image = nullptr;
   array = nullptr;
+  if (auto* unstructured = vtkUnstructuredGridVolumeMapper::SafeDownCast(volume->GetMapper()))
+  {
+    if (unstructured->GetBlendMode() != vtkUnstructuredGridVolumeMapper::COMPOSITE_BLEND)
+    {
+      return "blend mode " + std::to_string(unstructured->GetBlendMode()) + " (only composite is traced)";
+    }
+    if (unstructured->GetClippingPlanes() && unstructured->GetClippingPlanes()->GetNumberOfItems() > 0)
+    {
+      return "clipping planes";
+    }
+    std::string why = UnsupportedProperty(volume->GetProperty());
+    if (why.empty())
+    {
+      why = resampled.Update(unstructured);
+    }
+    if (!why.empty())
+    {
+      return why;
+    }
+    image = resampled.Image;
+    array = image->GetPointData()->GetScalars();
+    return std::string();
+  }
+  resampled = vtkWhittedVolumeResampled();
   auto* mapper = vtkVolumeMapper::SafeDownCast(volume->GetMapper());
   auto* multiBlock = vtkMultiBlockVolumeMapper::SafeDownCast(mapper);
   if (!mapper ||
@@ -78,7 +126,7 @@ std::string Unsupported(vtkVolume* volume, vtkImageData*& image, vtkDataArray*& 
   {
     return std::string("mapper ") + (volume->GetMapper() ? volume->GetMapper()->GetClassName() : "none") +
       " (traced: vtkSmartVolumeMapper, vtkGPUVolumeRayCastMapper, vtkFixedPointVolumeRayCastMapper, "
-      "vtkMultiBlockVolumeMapper of one block)";
+      "vtkMultiBlockVolumeMapper of one block, unstructured-grid volume mappers by resampling)";
   }
   if (mapper->GetBlendMode() != vtkVolumeMapper::COMPOSITE_BLEND)
   {
@@ -92,18 +140,10 @@ std::string Unsupported(vtkVolume* volume, vtkImageData*& image, vtkDataArray*& 
   {
     return "clipping planes";
   }
-  vtkVolumeProperty* p = volume->GetProperty();
-  if (p->GetShade(0))
+  const std::string why = UnsupportedProperty(volume->GetProperty());
+  if (!why.empty())
   {
-    return "Shade on (only unshaded emission-absorption is traced)";
-  }
-  if (p->GetTransferFunctionMode() != vtkVolumeProperty::TF_1D)
-  {
-    return "2D transfer function";
-  }
-  if (GradientOpacityActive(p))
-  {
-    return "gradient opacity";
+    return why;
   }
   mapper->Update();
   vtkDataObject* input = mapper->GetInputDataObject(0, 0);
@@ -394,7 +434,7 @@ vtkWhittedVolumeConverter::Verdict vtkWhittedVolumeConverter::Convert(
   };
   vtkImageData* image = nullptr;
   vtkDataArray* array = nullptr;
-  const std::string unsupported = Unsupported(volume, image, array);
+  const std::string unsupported = Unsupported(volume, e.Resampled, image, array);
   if (!unsupported.empty())
   {
     return notTraced(vtkWhittedWarnings::VolumeOpenGL, unsupported, OpenGL);
@@ -441,6 +481,15 @@ vtkWhittedVolumeConverter::Verdict vtkWhittedVolumeConverter::Convert(
       for (float s : v.grid.scalars)
       {
         invalid += std::isfinite(s) ? 0 : 1;
+      }
+      if (e.Resampled.Image)
+      {
+        // The points outside the unstructured grid's cells are NaN on purpose
+        invalid -= std::min(invalid, e.Resampled.Outside);
+        const int n = vtkWhittedVolumeResampled::kSamples;
+        warnings.WarnVolume(volume, vtkWhittedWarnings::VolumeResampled,
+          std::to_string(n) + "^3 (" + std::to_string(e.Resampled.Outside) + " points outside its cells: "
+            "transparent)");
       }
       if (invalid)
       {

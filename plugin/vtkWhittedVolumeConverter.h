@@ -3,7 +3,8 @@
  * @brief   internal: vtkVolume -> whitted::Volume (core/geometry/volume.h), cached across frames
  *
  * Private to the Whitted module. A vtkVolume is traced when its mapper is a vtkSmartVolumeMapper,
- * vtkGPUVolumeRayCastMapper or vtkFixedPointVolumeRayCastMapper with vtkImageData input, one
+ * vtkGPUVolumeRayCastMapper or vtkFixedPointVolumeRayCastMapper with vtkImageData input (or an
+ * unstructured-grid volume mapper, whose input is resampled to image data: vtkWhittedVolumeResampled), one
  * component of point scalars, blend mode composite, no gradient opacity, Shade off, no cropping
  * and no clipping planes; otherwise it is left to VTK's OpenGL volume pass with a warning that
  * names the setting (Verdict OpenGL). Bad input (empty image, a single point along an axis, zero or
@@ -22,7 +23,8 @@
 #ifndef vtkWhittedVolumeConverter_h
 #define vtkWhittedVolumeConverter_h
 
-#include "vtkType.h" // for vtkMTimeType
+#include "vtkType.h"                   // for vtkMTimeType
+#include "vtkWhittedVolumeResampled.h" // for vtkWhittedVolumeResampled
 
 #include <array>   // for std::array
 #include <cstdint> // for uint32_t
@@ -86,6 +88,7 @@ private:
     std::array<double, 4> TransferKey = { -1.0, -1.0, -1.0, -1.0 };
     double Range[2] = { 0.0, 0.0 };
     double Geometry[16 + 2] = {}; ///< Volume matrix, step, interpolation of the scene volume.
+    vtkWhittedVolumeResampled Resampled; ///< An unstructured-grid mapper's input as image data.
   };
   void Remove(Entry& e);
 

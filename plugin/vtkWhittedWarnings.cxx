@@ -111,6 +111,11 @@ void vtkWhittedWarnings::WarnVolume(vtkProp* volume, Warning warning, const std:
     case VolumeInvalidScalars:
       this->WarnOnce(volume, warning, what + " scalars are NaN or infinite: traced as transparent");
       break;
+    case VolumeResampled:
+      this->WarnOnce(volume, warning,
+        "unstructured grid resampled to image data for tracing (vtkResampleToImage, " + what +
+          ", as ParaView's 'Resample To Image' volume mode): detail finer than its spacing is smoothed");
+      break;
     default:
       break;
   }

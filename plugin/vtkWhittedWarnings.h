@@ -78,7 +78,8 @@ public:
     // Volumes (vtkWhittedVolumeConverter)
     VolumeOpenGL = 1u << 10,         ///< A setting the tracer does not trace: OpenGL draws it.
     VolumeSkipped = 1u << 29,        ///< Bad input: not drawn.
-    VolumeInvalidScalars = 1u << 30  ///< NaN or infinite scalars: transparent.
+    VolumeInvalidScalars = 1u << 30, ///< NaN or infinite scalars: transparent.
+    VolumeResampled = 1u << 31       ///< An unstructured grid traced after resampling to image data.
   };
 
   /// Object the warnings are printed for (the pass).
@@ -97,8 +98,8 @@ public:
   void WarnGlyphArrays(vtkProp* actor, int problem);
 
   /**
-   * A volume warning (VolumeOpenGL, VolumeSkipped, VolumeInvalidScalars), once per volume; what
-   * names the setting, the bad input, or how many scalars.
+   * A volume warning (VolumeOpenGL, VolumeSkipped, VolumeInvalidScalars, VolumeResampled), once per
+   * volume; what names the setting, the bad input, how many scalars, or the resampling.
    */
   void WarnVolume(vtkProp* volume, Warning warning, const std::string& what);
 
