@@ -26,11 +26,31 @@ namespace whitted {
 /// reciprocal saturates at FLT_MAX, a far one may be infinite, and an origin beyond float range becomes +-FLT_MAX
 /// or +-inf on the conservative side. A NaN far product (0 * inf: an origin on a face plane of a parallel ray) is
 /// ignored by the slab test, which keeps such a ray (conservative). Computed for the three axes at once (SSE2).
-struct BoxRay {
-  __m128 orgNear[3], orgFar[3], invNear[3], invFar[3];
+/// Which of a wide node's planes a ray meets first and last per axis, by the signs of its direction.
+struct BoxRayPlanes {
   int nearBound[3], farBound[3];  ///< Index into BvhWideNode::b of the near / far plane per axis.
   /// The same as byte offsets into a BvhWideNode (the single-ray loop adds them to the node's address).
   std::size_t nearOffset[3], farOffset[3];
+};
+
+/// BoxRayPlanes for the direction signs negative (bit k: the direction is negative along axis k): lo first for a
+/// positive direction, hi first for a negative one.
+constexpr BoxRayPlanes boxRayPlanes(int negative) {
+  BoxRayPlanes p{};
+  for (int k = 0; k < 3; ++k) {
+    p.nearBound[k] = (negative >> k) & 1 ? 3 + k : k;
+    p.farBound[k] = (negative >> k) & 1 ? k : 3 + k;
+    p.nearOffset[k] = offsetof(BvhWideNode, b) + std::size_t(p.nearBound[k]) * sizeof(BvhWideNode::b[0]);
+    p.farOffset[k] = offsetof(BvhWideNode, b) + std::size_t(p.farBound[k]) * sizeof(BvhWideNode::b[0]);
+  }
+  return p;
+}
+/// The eight sign patterns' planes, looked up per ray (one 72-byte copy instead of computing twelve values).
+inline constexpr BoxRayPlanes kBoxRayPlanes[8] = {boxRayPlanes(0), boxRayPlanes(1), boxRayPlanes(2), boxRayPlanes(3),
+                                                  boxRayPlanes(4), boxRayPlanes(5), boxRayPlanes(6), boxRayPlanes(7)};
+
+struct BoxRay : BoxRayPlanes {
+  __m128 orgNear[3], orgFar[3], invNear[3], invFar[3];
   double tScale = 1.0;  ///< Box-test distances are t * tScale.
   /// False when every origin coordinate is a float (not +-inf): then an empty child slot (box lo = +inf, hi = -inf)
   /// never passes the slab test (its near distance is +inf, its far one -inf), and its mask needs no used().
@@ -112,11 +132,8 @@ struct BoxRay {
       orgFar[k] = _mm_set1_ps(lanes[1][k]);
       invNear[k] = _mm_set1_ps(lanes[2][k]);
       invFar[k] = _mm_set1_ps(lanes[3][k]);
-      nearBound[k] = (negative >> k) & 1 ? 3 + k : k;
-      farBound[k] = (negative >> k) & 1 ? k : 3 + k;
-      nearOffset[k] = offsetof(BvhWideNode, b) + std::size_t(nearBound[k]) * sizeof(BvhWideNode::b[0]);
-      farOffset[k] = offsetof(BvhWideNode, b) + std::size_t(farBound[k]) * sizeof(BvhWideNode::b[0]);
     }
+    static_cast<BoxRayPlanes&>(*this) = kBoxRayPlanes[negative & 7];
     // Rounded origins beyond float range are +-inf (up, down): the empty-slot masks are needed then
     const __m128 infinite = _mm_cmpeq_ps(_mm_max_ps(_mm_andnot_ps(signBit, up), _mm_andnot_ps(signBit, down)),
                                          _mm_set1_ps(std::numeric_limits<float>::infinity()));
