@@ -31,12 +31,17 @@ std::string vtkWhittedVolumeResampled::Update(vtkUnstructuredGridVolumeMapper* m
   {
     return "unstructured input without named scalars";
   }
+  if (cellFlag)
+  {
+    return "cell scalars (only point scalars are traced)";
+  }
   if (source->GetNumberOfComponents() != 1)
   {
     return std::to_string(source->GetNumberOfComponents()) + "-component scalars (only one component is traced)";
   }
+  // The same input, contents and selected array: the image made last time
   const vtkMTimeType time = std::max(input->GetMTime(), source->GetMTime());
-  if (this->Image && this->From == input && this->Time == time)
+  if (this->Image && this->From == input && this->Source == source && this->Time == time)
   {
     return std::string();
   }
@@ -47,7 +52,7 @@ std::string vtkWhittedVolumeResampled::Update(vtkUnstructuredGridVolumeMapper* m
   resample->SetSamplingDimensions(n, n, n);
   resample->Update();
   vtkImageData* out = resample->GetOutput();
-  vtkDataArray* probed = out->GetPointData()->GetArray(source->GetName());
+  vtkDataArray* probed = out->GetPointData()->GetArray(source->GetName()); // (point data in, point data out)
   if (!probed || probed->GetNumberOfTuples() != out->GetNumberOfPoints())
   {
     return "resampling to image data lost the scalars";
@@ -68,6 +73,7 @@ std::string vtkWhittedVolumeResampled::Update(vtkUnstructuredGridVolumeMapper* m
   this->Image->CopyStructure(out);
   this->Image->GetPointData()->SetScalars(scalars);
   this->From = input;
+  this->Source = source;
   this->Time = time;
   this->Outside = outside;
   return std::string();

@@ -15,17 +15,20 @@
 #include <cstddef> // for std::size_t
 #include <string>  // for std::string
 
+class vtkDataArray;
 class vtkDataObject;
 class vtkUnstructuredGridVolumeMapper;
 
 /// An unstructured-grid volume mapper's input resampled to image data (vtkResampleToImage at kSamples^3 over the
 /// input's bounds, like ParaView's 'Resample To Image' volume mode), the mapper's scalars as float with NaN
-/// (transparent) at the points outside every cell; made again when the input or its scalars change.
+/// (transparent) at the points outside every cell; made again when the input, its contents or the selected array
+/// change.
 struct vtkWhittedVolumeResampled
 {
   static constexpr int kSamples = 128; ///< Points per axis (ParaView's default SamplingDimensions).
   vtkSmartPointer<vtkImageData> Image;
   vtkDataObject* From = nullptr; ///< The input it was made from (compared, never read).
+  vtkDataArray* Source = nullptr; ///< The mapper's scalars then (compared, never read): another array is resampled.
   vtkMTimeType Time = 0;         ///< Max of the input's and its scalars' MTime then.
   std::size_t Outside = 0;       ///< Points outside every cell.
   /// Resamples mapper's input unless it and its scalars are unchanged since the last time. Returns why it cannot

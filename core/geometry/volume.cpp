@@ -81,6 +81,9 @@ std::string Volume::prepare(std::size_t& invalidScalars) {
     if (grid.dims[a] < 1) return "volume: no points along " + std::string(kAxis[a]);
     if (grid.dims[a] == 1)
       return "volume: a single point along " + std::string(kAxis[a]) + " (a slice has no thickness to march)";
+    if (grid.dims[a] > kMaxPointsPerAxis)
+      return "volume: more than 2^24 points along " + std::string(kAxis[a]) +
+             " (sample points are single precision)";
     n *= std::size_t(grid.dims[a]);
   }
   if (grid.scalars.size() != n)

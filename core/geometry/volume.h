@@ -83,6 +83,9 @@ struct Volume {
   /// counted. Off: every step is sampled (tests compare the two). Default on.
   bool skipEmptySpace = true;
   static constexpr double kMaxSteps = 20000.0;
+  /// Points per axis at most: sample points are single precision, whose integers are exact up to 2^24 (so the
+  /// last cell's index never rounds up past the grid).
+  static constexpr int kMaxPointsPerAxis = 1 << 24;
   static constexpr int kMacroCell = 16;
 
   /// Checks and prepares the volume for marching (world bounds, index map, step; transfer functions sorted and

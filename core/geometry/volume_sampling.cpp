@@ -158,7 +158,7 @@ struct Volume::Sampler {
     const std::size_t iy = std::size_t(uint32_t(_mm_cvtsi128_si32(_mm_shuffle_epi32(i, _MM_SHUFFLE(1, 1, 1, 1)))));
     const std::size_t iz = std::size_t(uint32_t(_mm_cvtsi128_si32(_mm_shuffle_epi32(i, _MM_SHUFFLE(2, 2, 2, 2)))));
     const float* c = s + iz * sz + iy * sy + ix;
-    // Pairs (c[o], c[o + 1]) at the cell's four x edges o = 0, sy, sz, sz + sy
+    // Pairs (c[o], c[o + 1]) at the cell's four x edges o = 0, sy, sz, sz + sy (pair(): below)
     const __m128 e01 = _mm_unpacklo_ps(pair(c), pair(c + sy));            // c0 csy c1 csy1
     const __m128 e23 = _mm_unpacklo_ps(pair(c + sz), pair(c + sz + sy));  // csz cszy csz1 cszy1
     const __m128 a = _mm_movelh_ps(e01, e23), b = _mm_movehl_ps(e23, e01);
@@ -201,7 +201,9 @@ struct Volume::Sampler {
     _mm_storeu_ps(out, _mm_add_ps(c0, _mm_mul_ps(fz, _mm_sub_ps(c1, c0))));
   }
   /// The two floats at q (one 8-byte load) in lanes 0 and 1.
-  static __m128 pair(const float* q) { return _mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(q))); }
+  static __m128 pair(const float* q) {
+    return _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(q)));  // (movq: no alignment needed)
+  }
   /// For four scalars v: the mask of those that may have an opacity above 0 or are NaN (the others are transparent
   /// by the table: their entries and the next are 0, so is the lerp), and each one's table entry i[l] and weight
   /// f[l] (tableIndex's operations and the march's conversions, per lane).

@@ -264,6 +264,8 @@ TEST(Volume, BadGridsAreSkippedWithAMessage) {
        },
        "single point along z"},
       {"too few scalars", [](Volume& v) { v.grid.scalars.resize(5); }, "5 scalars for 8 points"},
+      {"2^24 + 1 points along x (single-precision sample points)",
+       [](Volume& v) { v.grid.dims[0] = Volume::kMaxPointsPerAxis + 1; }, "more than 2^24 points along x"},
       {"singular direction", [](Volume& v) { v.grid.direction[2] = v.grid.direction[0]; }, "singular"},
       {"zero unit distance", [](Volume& v) { v.transfer.unitDistance = 0.0; }, "unit distance"},
   };

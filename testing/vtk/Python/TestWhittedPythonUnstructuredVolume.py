@@ -3,21 +3,22 @@
 
 A ball of tetrahedra cut from a wavelet (vtkClipDataSet by a sphere, then vtkDataSetTriangleFilter) drawn by a
 vtkProjectedTetrahedraMapper, opacity 0 below 100 and rising to 0.3 at the top of the range. Checks:
-- the pass traces it: the frame report counts 1 volume traced and no prop left to OpenGL, and says it was resampled
-  (vtkWhittedPass's warning names the resampling);
+- the pass traces it: the frame report counts 1 volume traced and no prop left to OpenGL (vtkWhittedPass warns
+  once that it was resampled);
 - independent references, MAE within 3/255 over the pixels either image covers: VTK's own image (the projected
   tetrahedra without the pass; measured 2.26/255, the resampling's smoothing), and vtkGPUVolumeRayCastMapper drawing
   the same grid resampled by vtkResampleToImage at the same 128^3 (2.51/255: the resampler's hidden points outside
   the ball have scalar 0 there, a shell the transfer function shows where the traced grid is transparent);
 - a mirror floor under it shows it (pixels outside its direct footprint change when it is shown);
-- a second frame converts nothing (the resampled grid is kept), a modified input is converted again.
+- a second frame converts nothing (the resampled grid is kept), a modified input is converted again, and so is
+  another selected array (the image changes).
 """
 import re
 
 import numpy as np
 from vtkmodules.test import Testing
 from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction, vtkSphere
-from vtkmodules.vtkFiltersCore import vtkResampleToImage
+from vtkmodules.vtkFiltersCore import vtkArrayCalculator, vtkResampleToImage
 from vtkmodules.vtkFiltersGeneral import vtkClipDataSet, vtkDataSetTriangleFilter
 from vtkmodules.vtkImagingCore import vtkRTAnalyticSource
 from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkRenderer, vtkRenderWindow, vtkVolume, vtkVolumeProperty
@@ -25,7 +26,7 @@ import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
 import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401
 from vtkmodules.vtkRenderingVolume import vtkGPUVolumeRayCastMapper, vtkProjectedTetrahedraMapper
 from whitted import vtkWhittedPass
-from whitted_imagetest import offscreen_render, quad_actor
+from whitted_imagetest import grab, offscreen_render, quad_actor
 
 SIZE = 200
 BACKGROUND = (0.32, 0.34, 0.43)
@@ -42,8 +43,14 @@ def ball():
     clip.InsideOutOn()
     tets = vtkDataSetTriangleFilter()
     tets.SetInputConnection(clip.GetOutputPort())
-    tets.Update()
-    return tets
+    # A second point array, for switching the selected scalars: 314 - RTData (the range flipped)
+    other = vtkArrayCalculator()
+    other.SetInputConnection(tets.GetOutputPort())
+    other.AddScalarArrayName("RTData")
+    other.SetFunction("314 - RTData")
+    other.SetResultArrayName("other")
+    other.Update()
+    return other
 
 
 def volume_property():
@@ -88,6 +95,8 @@ class TestWhittedPythonUnstructuredVolume(Testing.vtkTest):
         grid = ball()
         tetra = vtkProjectedTetrahedraMapper()
         tetra.SetInputConnection(grid.GetOutputPort())
+        tetra.SetScalarModeToUsePointFieldData()
+        tetra.SelectScalarArray("RTData")
         ren, volume = renderer(tetra)
         p = vtkWhittedPass()
         p.SetSamplesPerPixel(1)
@@ -167,6 +176,17 @@ class TestWhittedPythonUnstructuredVolume(Testing.vtkTest):
         third = report(p3)
         print("frames of one pass: converted %d, %d, then %d after the input changed" % (first[1], second[1], third[1]))
         self.assertEqual((first[1], second[1], third[1]), (1, 0, 1))
+        # Selecting another array resamples that one: a new grid, another image
+        before = grab(win)
+        tetra.SelectScalarArray("other")
+        win.Render()
+        fourth = report(p3)
+        after = grab(win)
+        changed = int((np.abs(after - before).max(axis=2) > 8).sum())
+        print("another array selected: converted %d, %d pixels change" % (fourth[1], changed))
+        self.assertEqual(fourth[1], 1)
+        self.assertGreater(changed, 1000)
+        tetra.SelectScalarArray("RTData")
         ren3.SetPass(None)
         win.Finalize()
 
