@@ -138,10 +138,10 @@ struct Volume {
   int rangesDims_[3] = {0, 0, 0};
   std::vector<uint8_t> macroEmpty_;
   void buildMacroCells();
-  struct CellLook;  ///< The march's macro-cell look-ups (volume.cpp)
+  struct CellLook;  ///< The march's macro-cell look-ups (volume_sampling.cpp)
   void buildTable();
   Entry lookup(float s) const;
-  struct Sampler;  ///< The march's per-sample constants and reads (volume.cpp)
+  struct Sampler;  ///< The march's per-sample constants and reads (volume_sampling.cpp)
 };
 
 }  // namespace whitted

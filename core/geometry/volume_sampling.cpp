@@ -265,13 +265,16 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
   const __m128 dF = _mm_setr_ps(float(d.x), float(d.y), float(d.z), 0.0f);
   auto at = [&](float h) { return _mm_add_ps(e, _mm_mul_ps(_mm_set1_ps(h), dF)); };  // the point h after the entry
   const float dtF = float(dt);
+  // The parameter from the entry to step k's middle: (k + 1/2) dt for a full step (in float), the middle of
+  // [t0 + k dt, t1] for a step ending at t1
+  auto middle = [&](int64_t k) {
+    return k < fullEnd ? (float(k) + 0.5f) * dtF : float(0.5 * (t0 + double(k) * dt + t1) - t0);
+  };
   // Accumulated in locals, stored once at the end
   __m128 color4 = _mm_setr_ps(acc.color.r, acc.color.g, acc.color.b, 0.0f);
   float transmittance = acc.transmittance;
   uint64_t samples = 0, invalid = 0;
   bool terminated = false;
-  // Adds scalar s, sampled at a step's middle, with alpha from the table (full) or for length h (in ray parameter
-  // units); returns false once the transmittance falls below stopBelow
   // Adds the sample whose table entry is i, weight f (Sampler::tableIndex), at a step's middle, with alpha from
   // the table (full) or for length h (in ray parameter units); returns false once the transmittance falls below
   // stopBelow
@@ -309,10 +312,6 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
   const __m128 dt4 = _mm_set1_ps(dtF), lanes = _mm_setr_ps(0.5f, 1.5f, 2.5f, 3.5f);
   const bool four = !smp.nearest;
   const CellLook look(*this, o, d, t0, dt);
-  // The parameter from the entry to step k's middle
-  auto middle = [&](int64_t k) {
-    return k < fullEnd ? (float(k) + 0.5f) * dtF : float(0.5 * (t0 + double(k) * dt + t1) - t0);
-  };
   // Runs of steps sampled without looking at macro cells: without skipping, all of them; with it, the steps of a
   // run of non-empty cells (CellLook::lastInsideRun), or, after an empty cell's steps are skipped, the one step the
   // skip lands on (about at the exit)
@@ -340,7 +339,7 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
     const int64_t fullStop = std::min(runEnd, fullEnd);
     if (four) {
       for (; k + 4 <= fullStop && !terminated; k += 4) {
-        // h = (float(k + l) + 0.5f) dt per lane, as below (float(k) + l is exact: k < 2^24)
+        // h = middle(k + l) per lane: (float(k) + l + 0.5f) dt, float(k) + l exact (k < 2^24)
         const __m128 h = _mm_mul_ps(_mm_add_ps(_mm_set1_ps(float(k)), lanes), dt4);
         alignas(16) float v[4];
         smp.at4(_mm_add_ps(ex4, _mm_mul_ps(h, dx4)), _mm_add_ps(ey4, _mm_mul_ps(h, dy4)),
@@ -368,8 +367,7 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
       if (terminated) break;
     }
     for (; k < fullStop; ++k) {
-      const float h = (float(k) + 0.5f) * dtF;
-      if (!add(smp.at(at(h)), true, 0.0)) {
+      if (!add(smp.at(at(middle(k))), true, 0.0)) {
         terminated = true;
         break;
       }
@@ -378,8 +376,7 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
     for (; k < runEnd && !terminated; ++k) {
       const double ta = t0 + double(k) * dt;
       if (!(t1 > ta)) continue;
-      const float h = float(0.5 * (ta + t1) - t0);
-      if (!add(smp.at(at(h)), false, t1 - ta)) terminated = true;
+      if (!add(smp.at(at(middle(k))), false, t1 - ta)) terminated = true;
     }
   }
   alignas(16) float rgb[4];
