@@ -62,6 +62,21 @@ void setObjectFrom(Scene& scene, uint32_t object, const Scene& source) {
   }
 }
 
+TimedFrames timeFrames(const Scene& scene, const Camera& cam, const RenderSettings& rs, int w, int h, int warmup,
+                       int reps, FrameBuffer& fb) {
+  TimedFrames out;
+  std::vector<double> cpu;
+  out.wall = timeRepeated(warmup, reps, [&] {
+    const double c0 = processCpuNow();
+    out.stats = render(scene, cam, rs, w, h, fb);
+    cpu.push_back(processCpuNow() - c0);
+    return out.stats.secondsTrace;
+  });
+  cpu.erase(cpu.begin(), cpu.begin() + std::min<std::ptrdiff_t>(warmup, std::ptrdiff_t(cpu.size()) - 1));
+  out.cpu = summarize(cpu);
+  return out;
+}
+
 void savePng(const std::string& path, const FrameBuffer& fb) {
   if (!path.empty() && !writePng(path, fb.width, fb.height, toRgba8(fb)))
     std::fprintf(stderr, "cannot write %s\n", path.c_str());

@@ -45,6 +45,15 @@ RenderSettings settingsFrom(const Args& a);
 /// setTubes), as an adapter without caching would: its BVH is rebuilt at the next commit. source may be scene.
 void setObjectFrom(Scene& scene, uint32_t object, const Scene& source);
 
+/// Frames rendered warmup times untimed, then reps times timed (TimedFrames::wall: trace seconds; cpu: the process's
+/// CPU seconds per render); fb and stats are the last frame's.
+struct TimedFrames {
+  Timing wall, cpu;
+  FrameStats stats;
+};
+TimedFrames timeFrames(const Scene& scene, const Camera& cam, const RenderSettings& rs, int w, int h, int warmup,
+                       int reps, FrameBuffer& fb);
+
 /// Writes fb as an 8-bit PNG (nothing when path is empty).
 void savePng(const std::string& path, const FrameBuffer& fb);
 

@@ -50,16 +50,9 @@ int cmdFrame(const Args& a) {
     for (int threads : threadList(a)) {
       rs.threads = threads;
       FrameBuffer fb;
-      FrameStats fs;
-      std::vector<double> cpu;
-      Timing t = timeRepeated(warmup, reps, [&] {
-        double c0 = processCpuNow();
-        fs = render(bs.scene, cam, rs, w, h, fb);
-        cpu.push_back(processCpuNow() - c0);
-        return fs.secondsTrace;
-      });
-      cpu.erase(cpu.begin(), cpu.begin() + std::min<std::ptrdiff_t>(warmup, std::ptrdiff_t(cpu.size()) - 1));
-      Timing tc = summarize(cpu);
+      const TimedFrames timed = timeFrames(bs.scene, cam, rs, w, h, warmup, reps, fb);
+      const Timing &t = timed.wall, &tc = timed.cpu;
+      const FrameStats& fs = timed.stats;
       csv.row({tag,
                bs.name,
                fmt(w),

@@ -50,18 +50,12 @@ int cmdSteps(const Args& a) {
       if (!(step > 0.0)) continue;
       setStep(bs.scene, step);
       FrameBuffer fb;
-      FrameStats fs;
-      std::vector<double> cpu;
-      Timing t = timeRepeated(warmup, reps, [&] {
-        const double c0 = processCpuNow();
-        fs = render(bs.scene, cam, rs, w, h, fb);
-        cpu.push_back(processCpuNow() - c0);
-        return fs.secondsTrace;
-      });
-      cpu.erase(cpu.begin(), cpu.begin() + std::min<std::ptrdiff_t>(warmup, std::ptrdiff_t(cpu.size()) - 1));
+      const TimedFrames timed = timeFrames(bs.scene, cam, rs, w, h, warmup, reps, fb);
+      const Timing& t = timed.wall;
+      const FrameStats& fs = timed.stats;
       const ImageError e = compareImages(fb, ref);
       csv.row({bs.name, fmt(w), fmt(h), fmt(threads), fmt(step), fmt(refStep), fmt(t.median),
-               fmt(summarize(cpu).median), fmt(fs.rays.volumeSamples), fmt(e.rmse), fmt(e.maxLevels)});
+               fmt(timed.cpu.median), fmt(fs.rays.volumeSamples), fmt(e.rmse), fmt(e.maxLevels)});
       std::printf("steps      %-12s %4dx%-4d %d thr: step %-7g %9.2f ms, %llu volume samples, rmse %.3g (max %d "
                   "levels) against step %g\n",
                   bs.name.c_str(), w, h, threads, step, t.median * 1e3, (unsigned long long)fs.rays.volumeSamples,

@@ -219,6 +219,20 @@ def find_whitted_pythonpath(args):
     return ""
 
 
+def vtk_tools_ok():
+    """Whether the VTK sections can run: xvfb-run and Debian's VTK Python."""
+    return bool(shutil.which("xvfb-run")) and have_vtk()
+
+
+def whitted_env(args):
+    """The environment for a VTK script that imports the whitted module: PYTHONPATH led by its folder (when built)."""
+    env = dict(os.environ)
+    wpath = find_whitted_pythonpath(args)
+    if wpath:
+        env["PYTHONPATH"] = wpath + os.pathsep + env.get("PYTHONPATH", "")
+    return env
+
+
 def find_paraview(args):
     """(WhittedView plugin, PYTHONPATH holding ParaView's Python package) next to the build tree, or ""."""
     plugin, pvpath = args.paraview_plugin, args.pv_pythonpath

@@ -2,28 +2,20 @@
 (vtk_glyph_bench.py): first frame, frame after a camera turn and the memory each process grows by, per glyph
 count."""
 import os
-import shutil
 
 from ..markdown import commands_block, fmt_ratio, md_table, ms, ratio
-from ..runner import HERE, VTK_PYTHON, XVFB, find_whitted_pythonpath, fresh, have_vtk, read_csv
+from ..runner import HERE, VTK_PYTHON, XVFB, fresh, read_csv, vtk_tools_ok, whitted_env
 
 LABELS = {"opengl": "VTK OpenGL (vtkOpenGLGlyph3DMapper)", "whitted": "vtkWhittedPass (1 spp, shadows)"}
-
-
-def _tools_ok():
-    return shutil.which("xvfb-run") and have_vtk()
 
 
 def run(ctx):
     c = ctx.cfg
     path = fresh(ctx.path("glyphs.csv"))
-    if not _tools_ok():
+    if not vtk_tools_ok():
         ctx.notes.append("xvfb-run or VTK Python missing: glyph comparison skipped")
         return
-    env = dict(os.environ)
-    wpath = find_whitted_pythonpath(ctx.args)
-    if wpath:
-        env["PYTHONPATH"] = wpath + os.pathsep + env.get("PYTHONPATH", "")
+    env = whitted_env(ctx.args)
     # Full: one process per renderer and count (the memory of that process alone); quick: both in one process
     modes = ["opengl,whitted"] if c["quick"] else ["opengl", "whitted"]
     for n in c["glyph_counts"]:
@@ -36,7 +28,7 @@ def run(ctx):
 
 
 def outputs(ctx):
-    return ["glyphs.csv"] if _tools_ok() else []
+    return ["glyphs.csv"] if vtk_tools_ok() else []
 
 
 def report(ctx, head):

@@ -3,11 +3,10 @@ vtkFixedPointVolumeRayCastMapper, and traced by vtkWhittedPass with its effects 
 with a mirror floor (vtk_volume_bench.py): first frame, frame after a camera turn, peak memory; each mode in a
 process of its own."""
 import os
-import shutil
 
 from .. import plots
 from ..markdown import commands_block, fmt_ratio, md_table, ms, ratio
-from ..runner import HERE, VTK_PYTHON, XVFB, find_whitted_pythonpath, fresh, have_vtk, read_csv
+from ..runner import HERE, VTK_PYTHON, XVFB, fresh, read_csv, vtk_tools_ok, whitted_env
 
 MODES = ["gpu", "fixedpoint", "whitted", "whitted-shadow", "whitted-mirror"]
 LABELS = {"gpu": "VTK vtkGPUVolumeRayCastMapper (llvmpipe)",
@@ -17,10 +16,6 @@ LABELS = {"gpu": "VTK vtkGPUVolumeRayCastMapper (llvmpipe)",
           "whitted-mirror": "vtkWhittedPass, mirror floor and shadows"}
 
 
-def _tools_ok():
-    return shutil.which("xvfb-run") and have_vtk()
-
-
 def run(ctx):
     c = ctx.cfg
     # The step study in the core (no VTK): error against a far finer step, and time, per sample distance
@@ -28,13 +23,10 @@ def run(ctx):
                     c["vol_steps"], "--reference-step", str(c["vol_reference_step"]), "--reps", str(c["vol_reps"]),
                     "--threads-list", "0", "--csv", fresh(ctx.path("volume_steps.csv"))], "volume steps")
     path = fresh(ctx.path("volume.csv"))
-    if not _tools_ok():
+    if not vtk_tools_ok():
         ctx.notes.append("xvfb-run or VTK Python missing: volume comparison skipped")
         return
-    env = dict(os.environ)
-    wpath = find_whitted_pythonpath(ctx.args)
-    if wpath:
-        env["PYTHONPATH"] = wpath + os.pathsep + env.get("PYTHONPATH", "")
+    env = whitted_env(ctx.args)
     # The anchors and the effects-off trace twice, interleaved (the machine's speed drifts between runs)
     order = MODES + ["gpu", "fixedpoint", "whitted"] if not c["quick"] else MODES
     for mode in order:
@@ -47,7 +39,7 @@ def run(ctx):
 
 
 def outputs(ctx):
-    return ["volume_steps.csv", "volume_steps.png"] + (["volume.csv"] if _tools_ok() else [])
+    return ["volume_steps.csv", "volume_steps.png"] + (["volume.csv"] if vtk_tools_ok() else [])
 
 
 def _median_row(rows, mode):

@@ -3,20 +3,15 @@ and vtkWhittedPass's whole VTK frame, each against VTK OpenGL with matching anti
 pixel, MSAA 8 vs 8 samples) and against VTK's shadow-map pass; the same lights cast shadows on every side."""
 import json
 import os
-import shutil
 import statistics
 
 from .. import plots
 from ..markdown import commands_block, fmt_ratio, md_table, ms, ratio
-from ..runner import (HERE, VTK_PYTHON, XVFB, available_scenes, drop_tags, find_whitted_pythonpath, fresh,
-                      have_vtk, is_num, mesh_path, read_csv, write_csv)
+from ..runner import (HERE, VTK_PYTHON, XVFB, available_scenes, drop_tags, fresh, is_num, mesh_path, read_csv,
+                     write_csv, vtk_tools_ok, whitted_env)
 from .pov import image_difference
 
 LABELS = {"opengl": "VTK OpenGL", "shadowmap": "VTK OpenGL + vtkShadowMapPass", "whitted": "vtkWhittedPass"}
-
-
-def _tools_ok():
-    return shutil.which("xvfb-run") and have_vtk()
 
 
 def run(ctx):
@@ -39,7 +34,7 @@ def run(ctx):
                            "ours %s %s spp %d%s" % (scene, size, spp, label))
 
     ours("")  # again after the VTK runs: the report uses the mean of both medians
-    if not _tools_ok():
+    if not vtk_tools_ok():
         ctx.notes.append("xvfb-run or VTK Python missing: VTK OpenGL comparison skipped")
         return
     info = ctx.path(os.path.join("cache", scene + ".json"))
@@ -49,10 +44,7 @@ def run(ctx):
         f.write(text)
     modes = [("opengl", msaa, 1) for msaa, _ in c["vtk_pairs"]] + [("shadowmap", 0, 1)]
     modes += [("whitted", 0, spp) for spp in spps]
-    env = dict(os.environ)
-    wpath = find_whitted_pythonpath(ctx.args)
-    if wpath:
-        env["PYTHONPATH"] = wpath + os.pathsep + env.get("PYTHONPATH", "")
+    env = whitted_env(ctx.args)
     for mode, msaa, spp in modes:
         png = ctx.path("vtk_%s_msaa%d_spp%d.png" % (mode, msaa, spp))
         cmd = XVFB + [VTK_PYTHON, os.path.join(HERE, "vtk_gl_bench.py"), "--mesh", mesh_path(scene, ctx.data),
@@ -74,7 +66,7 @@ def run(ctx):
 
 
 def outputs(ctx):
-    return ["frames.csv"] + (["vtk_opengl.csv", "vtk_image_difference.csv", "vtk_compare.png"] if _tools_ok() else [])
+    return ["frames.csv"] + (["vtk_opengl.csv", "vtk_image_difference.csv", "vtk_compare.png"] if vtk_tools_ok() else [])
 
 
 def _ours(frames):
