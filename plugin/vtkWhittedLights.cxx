@@ -15,6 +15,10 @@ vtkWhittedLights::Summary vtkWhittedLights::Convert(
   // headlight, 2 directional lights, 3 positional lights
   int count = 0;
   int complexity = 0;
+  // The same as vtkOpenGLGPUVolumeRayCastMapper computes it for shaded volumes (a lone headlight
+  // must also have intensity 1), and the sum of the lights' ambient colours it lights them with
+  int volumeComplexity = 0;
+  whitted::Color ambient(0.0f);
   vtkLightCollection* lc = renderer->GetLights();
   vtkCollectionSimpleIterator sit;
   lc->InitTraversal(sit);
@@ -37,6 +41,12 @@ vtkWhittedLights::Summary vtkWhittedLights::Convert(
     {
       complexity = 3;
     }
+    volumeComplexity = status > 0.0 && volumeComplexity == 0 ? 1 : volumeComplexity;
+    if (volumeComplexity == 1 &&
+      (count > 1 || light->GetIntensity() != 1.0 || light->GetLightType() != VTK_LIGHT_TYPE_HEADLIGHT))
+    {
+      volumeComplexity = 2;
+    }
     if (status <= 0.0)
     {
       continue;
@@ -44,6 +54,8 @@ vtkWhittedLights::Summary vtkWhittedLights::Convert(
 
     whitted::Light l;
     double v[3];
+    light->GetAmbientColor(v);
+    ambient += static_cast<float>(light->GetIntensity()) * whitted::Color(v[0], v[1], v[2]);
     light->GetTransformedPosition(v);
     l.position = whitted::Vec3(v[0], v[1], v[2]);
     light->GetTransformedFocalPoint(v);
@@ -81,5 +93,7 @@ vtkWhittedLights::Summary vtkWhittedLights::Convert(
   Summary summary;
   summary.HeadlightShading = complexity == 1;
   summary.LightsOn = count > 0;
+  summary.VolumeLightsAlongRays = volumeComplexity == 1;
+  summary.VolumeAmbient = volumeComplexity == 1 ? whitted::Color(1.0f) : ambient;
   return summary;
 }

@@ -28,6 +28,12 @@ struct Summary
   bool HeadlightShading = false;
   /// At least one light is switched on (with none, VTK draws every actor unlit).
   bool LightsOn = false;
+  /// How vtkGPUVolumeRayCastMapper (VTK 9.1) lights shaded volumes (whitted::VolumeLighting): a
+  /// lone headlight of intensity 1 shines along each viewing ray and the ambient term is the
+  /// property's; otherwise each light has its direction and the ambient term is scaled by the sum
+  /// of the lights' ambient colours (black by default).
+  bool VolumeLightsAlongRays = false;
+  whitted::Color VolumeAmbient{ 1.0f };
 };
 
 /// Fills lights with the renderer's switched-on lights, in the renderer's order. A light casts

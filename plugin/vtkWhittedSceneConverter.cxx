@@ -483,6 +483,8 @@ void vtkWhittedSceneConverter::Update(
   // Lights
   const vtkWhittedLights::Summary lights = vtkWhittedLights::Convert(ren, in.Scene.lights(), in.BrightestLightShadowsOnly);
   result.HeadlightShading = lights.HeadlightShading;
+  in.Scene.volumeAmbient = lights.VolumeAmbient;
+  in.Scene.volumeLightsAlongRays = lights.VolumeLightsAlongRays;
   in.LightsOn = lights.LightsOn;
 
   // What to trace; of the render state's props, those the tracer does not draw go to OpenGL

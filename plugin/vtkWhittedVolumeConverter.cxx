@@ -72,17 +72,9 @@ bool GradientOpacityActive(vtkVolumeProperty* p)
 // Why the tracer cannot trace a volume with this property (empty: it can)
 std::string UnsupportedProperty(vtkVolumeProperty* p)
 {
-  if (p->GetShade(0))
-  {
-    return "Shade on (only unshaded emission-absorption is traced)";
-  }
   if (p->GetTransferFunctionMode() != vtkVolumeProperty::TF_1D)
   {
     return "2D transfer function";
-  }
-  if (GradientOpacityActive(p))
-  {
-    return "gradient opacity";
   }
   return std::string();
 }
@@ -341,6 +333,20 @@ whitted::TransferFunction Transfer(vtkVolumeProperty* p, const double range[2])
     tf.opacityY.resize(kNodes);
     otf->GetTable(span.first, span.second, kNodes, tf.opacityY.data());
   }
+  // Shading with VTK's coefficients; gradient opacity as VTK's GPU mapper tabulates it (its default
+  // range: gradient magnitudes 0 .. a quarter of the scalar range)
+  tf.shade = p->GetShade(0) != 0;
+  tf.ambient = static_cast<float>(p->GetAmbient(0));
+  tf.diffuse = static_cast<float>(p->GetDiffuse(0));
+  tf.specular = static_cast<float>(p->GetSpecular(0));
+  tf.specularPower = static_cast<float>(p->GetSpecularPower(0));
+  if (GradientOpacityActive(p))
+  {
+    const double span = range[1] > range[0] ? range[1] - range[0] : 1.0;
+    tf.gradientOpacityMax = 0.25 * span;
+    tf.gradientOpacity.resize(kNodes);
+    p->GetStoredGradientOpacity(0)->GetTable(0.0, tf.gradientOpacityMax, kNodes, tf.gradientOpacity.data());
+  }
   return tf;
 }
 } // namespace
@@ -465,9 +471,12 @@ vtkWhittedVolumeConverter::Verdict vtkWhittedVolumeConverter::Convert(
   // The transfer functions' own times, not the property's (VTK's mappers touch the property when
   // they draw it)
   const bool gray = p->GetColorChannels(0) == 1;
-  const std::array<double, 4> transferKey = { double(gray ? MTimeOf(p->GetGrayTransferFunction(0))
-                                                         : MTimeOf(p->GetRGBTransferFunction(0))),
-    double(gray), double(MTimeOf(p->GetScalarOpacity(0))), p->GetScalarOpacityUnitDistance(0) };
+  const bool gradientOpacity = GradientOpacityActive(p);
+  const std::array<double, 11> transferKey = { double(gray ? MTimeOf(p->GetGrayTransferFunction(0))
+                                                          : MTimeOf(p->GetRGBTransferFunction(0))),
+    double(gray), double(MTimeOf(p->GetScalarOpacity(0))), p->GetScalarOpacityUnitDistance(0),
+    double(p->GetShade(0)), p->GetAmbient(0), p->GetDiffuse(0), p->GetSpecular(0), p->GetSpecularPower(0),
+    double(gradientOpacity), gradientOpacity ? double(MTimeOf(p->GetStoredGradientOpacity(0))) : 0.0 };
   const bool newTransfer = newData || e.TransferKey != transferKey;
 
   if (newData || newGeometry)

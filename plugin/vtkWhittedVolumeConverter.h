@@ -84,8 +84,9 @@ private:
     vtkImageData* Image = nullptr;
     vtkDataArray* Array = nullptr;
     vtkMTimeType DataTime = 0;     ///< Max of the image's and the array's MTime at conversion.
-    /// The transfer functions' MTimes and the unit distance at the last transfer update.
-    std::array<double, 4> TransferKey = { -1.0, -1.0, -1.0, -1.0 };
+    /// The transfer functions' MTimes, the unit distance, the shading coefficients and gradient opacity
+    /// at the last transfer update (a first conversion updates it whatever it holds).
+    std::array<double, 11> TransferKey = {};
     double Range[2] = { 0.0, 0.0 };
     double Geometry[16 + 2] = {}; ///< Volume matrix, step, interpolation of the scene volume.
     vtkWhittedVolumeResampled Resampled; ///< An unstructured-grid mapper's input as image data.

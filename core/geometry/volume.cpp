@@ -101,6 +101,16 @@ std::string Volume::prepare(std::size_t& invalidScalars) {
     return "volume: scalar opacity unit distance must be positive";
   sortNodes(transfer.colorX, transfer.colorY);
   sortNodes(transfer.opacityX, transfer.opacityY);
+  // Shading coefficients as vtkVolumeProperty clamps them (non-finite: 0); gradient opacity in [0, 1], off
+  // without a usable range
+  for (float* k : {&transfer.ambient, &transfer.diffuse, &transfer.specular})
+    *k = std::isfinite(*k) ? std::clamp(*k, 0.0f, 1.0f) : 0.0f;
+  transfer.specularPower =
+      std::isfinite(transfer.specularPower) ? std::clamp(transfer.specularPower, 0.0f, 128.0f) : 0.0f;
+  for (float& g : transfer.gradientOpacity) g = std::isfinite(g) ? std::clamp(g, 0.0f, 1.0f) : 0.0f;
+  if (!(std::isfinite(transfer.gradientOpacityMax) && transfer.gradientOpacityMax > 0.0) ||
+      transfer.gradientOpacity.size() < 2)
+    transfer.gradientOpacity.clear();
 
   // Non-finite scalars: NaN, which sampling reads as transparent
   for (float& s : grid.scalars)

@@ -23,12 +23,48 @@ struct TransferFunction {
   /// vtkVolumeProperty::ScalarOpacityUnitDistance: the path length over which a sample's opacity applies as given;
   /// a step of length h has alpha 1 - (1 - opacity)^(h / unitDistance). Default 1.
   double unitDistance = 1.0;
+  /// vtkVolumeProperty Shade: each sample's colour C is lit as VTK's GPU mapper lights it (a headlight scene of
+  /// VTK 9.1's): ambient C + sum over lights of diffuse |n . l| C + specular |n . h|^specularPower (light
+  /// colours times intensity; n the scalar's gradient direction, two-sided; h the half vector of l and the
+  /// direction back along the ray), clamped to [0, 1], before it is weighted by its alpha. VTK's defaults.
+  bool shade = false;
+  float ambient = 0.1f, diffuse = 0.7f, specular = 0.2f, specularPower = 10.0f;
+  /// Gradient opacity (VTK's, with its default range): a sample's alpha times this function of the gradient
+  /// magnitude m, given at m = gradientOpacityMax * i / (size - 1) and clamped beyond; m is the scalar's change per
+  /// mean voxel spacing (|gradient| x (spacing x + y + z) / 3, in the grid's own axes). Empty: off.
+  std::vector<float> gradientOpacity;
+  double gradientOpacityMax = 0.0;
 
   Color color(float s) const;
   float opacity(float s) const;
 };
 
 enum class VolumeInterpolation { Nearest, Linear };
+
+/// A light as volume shading sees it (Scene makes them from its lights at commit): directional (toward the light)
+/// or positional (VTK's attenuation and spot cone), colour times intensity.
+struct VolumeLight {
+  bool positional = false;
+  Vec3 toLight{0.0, 0.0, 1.0};      ///< Directional: unit vector toward the light.
+  Vec3 position{0.0};               ///< Positional: where the light is.
+  Vec3 attenuation{1.0, 0.0, 0.0};  ///< Positional: constant, linear, quadratic.
+  Vec3 axis{0.0, 0.0, -1.0};        ///< Spot: unit direction the light travels.
+  double cosCone = -1.0;            ///< Spot: cosine of the cone's half angle (-1: not a spot).
+  double exponent = 1.0;            ///< Spot exponent.
+  Color radiance{1.0f};             ///< Colour x intensity.
+};
+
+/// The lights of volume shading and how they light (Scene::volumeLighting; VTK's GPU mapper's two cases).
+struct VolumeLighting {
+  const VolumeLight* lights = nullptr;
+  std::size_t count = 0;
+  /// The ambient term is ambient x this x the sample's colour. VTK's GPU mapper: 1 for a lone headlight, else the
+  /// sum of the lights' ambient colours times their intensities (vtkLight's default ambient colour is black).
+  Color ambient{1.0f};
+  /// Every light arrives along the viewing ray (l = the direction back along the ray), as VTK's GPU mapper lights
+  /// a lone headlight of intensity 1 (a lamp at the eye); else each light's own direction.
+  bool alongRays = false;
+};
 
 /// One-component point scalars on a regular grid: the point (i, j, k) is at origin + direction * (spacing * (i, j, k))
 /// (vtkImageData's index-to-physical map; direction is a GLM matrix, its columns the grid axes). Scalars x fastest,
@@ -109,7 +145,11 @@ struct Volume {
   /// acc: samples at the middle of steps of step() (the last one shorter), each with alpha
   /// 1 - (1 - opacity)^(length / unitDistance), colour added as acc.transmittance x alpha x colour (emission false:
   /// transmittance only). Stops once acc.transmittance < stopBelow (acc.terminated).
-  void march(const Ray& ray, double t0, double t1, bool emission, float stopBelow, VolumeMarch& acc) const;
+  /// With transfer.shade, each sample's colour is lit by lighting (none: ambient only); gradient opacity
+  /// (transfer.gradientOpacity) scales each alpha.
+  void march(const Ray& ray, double t0, double t1, bool emission, float stopBelow, VolumeMarch& acc,
+             const VolumeLighting& lighting = VolumeLighting()) const;
+  const Mat3& toIndex() const { return toIndex_; }  ///< World vector -> index-space vector (after prepare).
 
  private:
   bool ready_ = false;
@@ -142,6 +182,10 @@ struct Volume {
   void buildTable();
   Entry lookup(float s) const;
   struct Sampler;  ///< The march's per-sample constants and reads (volume_sampling.cpp)
+  /// march(): Shaded reads each sample's gradient for shader (shading, gradient opacity; else nullptr).
+  template <bool Shaded>
+  void marchWith(const Ray& ray, double t0, double t1, bool emission, float stopBelow, VolumeMarch& acc,
+                 const class VolumeShader* shader) const;
 };
 
 }  // namespace whitted

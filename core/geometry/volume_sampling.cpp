@@ -1,6 +1,7 @@
 // The march of one ray segment through a volume (Volume::march) and what it reads: grid samples (Volume::sample,
 // trilinear in SSE), the transfer-function table (Volume::lookup) and the macro cells of empty-space skipping.
 #include "geometry/volume.h"
+#include "geometry/volume_shading.h"
 
 #include <emmintrin.h>  // SSE2: part of every x86-64 CPU (Debian 12's baseline)
 
@@ -122,6 +123,7 @@ struct Volume::Sampler {
   const Entry* table;
   float tableMin, tableScale, tableLast;
   __m128 opaqueLo, opaqueHi;  // Volume::opaqueLo_, opaqueHi_
+  __m128 gradStep;            // gradient()'s offsets per axis, n / (n - 1) points
   explicit Sampler(const Volume& v)
       : s(v.grid.scalars.data()),
         sy(std::size_t(v.grid.dims[0])),
@@ -134,7 +136,10 @@ struct Volume::Sampler {
         tableScale(v.tableScale_),
         tableLast(v.tableLast_),
         opaqueLo(_mm_set1_ps(v.opaqueLo_)),
-        opaqueHi(_mm_set1_ps(v.opaqueHi_)) {
+        opaqueHi(_mm_set1_ps(v.opaqueHi_)),
+        gradStep(_mm_setr_ps(float(v.grid.dims[0]) / float(v.grid.dims[0] - 1),
+                             float(v.grid.dims[1]) / float(v.grid.dims[1] - 1),
+                             float(v.grid.dims[2]) / float(v.grid.dims[2] - 1), 0.0f)) {
     for (int a = 0; a < 3; ++a) {
       hi4[a] = _mm_set1_ps(float(v.grid.dims[a] - 1));
       lastCell4[a] = _mm_set1_ps(float(v.grid.dims[a] - 2));
@@ -168,6 +173,16 @@ struct Volume::Sampler {
     const __m128 y = _mm_add_ps(y0, _mm_mul_ps(_mm_shuffle_ps(f, f, _MM_SHUFFLE(1, 1, 1, 1)), _mm_sub_ps(y1, y0)));
     const float c0 = _mm_cvtss_f32(y), c1 = _mm_cvtss_f32(_mm_shuffle_ps(y, y, _MM_SHUFFLE(1, 1, 1, 1)));
     return c0 + _mm_cvtss_f32(_mm_shuffle_ps(f, f, _MM_SHUFFLE(2, 2, 2, 2))) * (c1 - c0);
+  }
+  /// Central differences about index point p, s(p + o_a e_a) - s(p - o_a e_a) per axis a, with VTK's GPU mapper's
+  /// offset o_a = n_a / (n_a - 1) points (one texel of its texture, whose texels centre on the n_a points: a
+  /// gradient of a coarse grid turns with it), the reads clamped to the grid by at(), as VTK's texture reads clamp.
+  Vec3f gradient(__m128 p) const {
+    const __m128 ex = _mm_and_ps(gradStep, _mm_castsi128_ps(_mm_setr_epi32(-1, 0, 0, 0)));
+    const __m128 ey = _mm_and_ps(gradStep, _mm_castsi128_ps(_mm_setr_epi32(0, -1, 0, 0)));
+    const __m128 ez = _mm_and_ps(gradStep, _mm_castsi128_ps(_mm_setr_epi32(0, 0, -1, 0)));
+    return Vec3f(at(_mm_add_ps(p, ex)) - at(_mm_sub_ps(p, ex)), at(_mm_add_ps(p, ey)) - at(_mm_sub_ps(p, ey)),
+                 at(_mm_add_ps(p, ez)) - at(_mm_sub_ps(p, ez)));
   }
   /// at() of four points (lanes: x, y, z of point l in lane l of each) by trilinear interpolation, into out[4]:
   /// the same single-precision operations per point, so the same values; the 32 reads issued together.
@@ -239,7 +254,21 @@ float Volume::sample(const Vec3& index) const {
   return Sampler(*this).at(_mm_setr_ps(float(index.x), float(index.y), float(index.z), 0.0f));
 }
 
-void Volume::march(const Ray& ray, double t0, double t1, bool emission, float stopBelow, VolumeMarch& acc) const {
+void Volume::march(const Ray& ray, double t0, double t1, bool emission, float stopBelow, VolumeMarch& acc,
+                   const VolumeLighting& lighting) const {
+  // Shading or gradient opacity read each sample's gradient: their own instance of the march (the plain one stays
+  // as tight as without them)
+  if ((transfer.shade && emission) || !transfer.gradientOpacity.empty()) {
+    const VolumeShader shader(*this, ray, lighting, emission);
+    marchWith<true>(ray, t0, t1, emission, stopBelow, acc, &shader);
+  } else {
+    marchWith<false>(ray, t0, t1, emission, stopBelow, acc, nullptr);
+  }
+}
+
+template <bool Shaded>
+void Volume::marchWith(const Ray& ray, double t0, double t1, bool emission, float stopBelow, VolumeMarch& acc,
+                       const VolumeShader* shader) const {
   const double len = glm::length(lengthMetric * ray.dir);
   if (!(t1 > t0) || !(len > 0.0)) return;
   const Vec3 o = toIndex_ * (ray.origin - grid.origin);
@@ -275,28 +304,44 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
   float transmittance = acc.transmittance;
   uint64_t samples = 0, invalid = 0;
   bool terminated = false;
-  // Adds the sample whose table entry is i, weight f (Sampler::tableIndex), at a step's middle, with alpha from
-  // the table (full) or for length h (in ray parameter units); returns false once the transmittance falls below
-  // stopBelow
-  auto addEntry = [&](int i, float f, bool full, double h) __attribute__((always_inline)) {
+  // Colour of the entries a, b lerped by f, the three channels at once (lane 3: opacity's, unused)
+  auto lerpColor = [](const Entry& a, const Entry& b, float f) __attribute__((always_inline)) {
+    static_assert(offsetof(Entry, opacity) == 3 * sizeof(float), "colour, then opacity: one 16-byte load");
+    const __m128 ca = _mm_loadu_ps(&a.color.r), cb = _mm_loadu_ps(&b.color.r);
+    return _mm_add_ps(ca, _mm_mul_ps(_mm_set1_ps(f), _mm_sub_ps(cb, ca)));
+  };
+  // The colour c of the sample at parameter m after the entry, with central differences g, lit (Shaded only)
+  auto shade = [&](const Vec3f& g, float m, __m128 c) {
+    alignas(16) float rgb[4];
+    _mm_store_ps(rgb, c);
+    const Color lit = shader->shade(g, ray.origin + (t0 + double(m)) * ray.dir, Color(rgb[0], rgb[1], rgb[2]));
+    return _mm_setr_ps(lit.r, lit.g, lit.b, 0.0f);
+  };
+  // Adds the sample whose table entry is i, weight f (Sampler::tableIndex), at a step's middle m (parameter after
+  // the entry), with alpha from the table (full) or for length h (in ray parameter units); returns false once the
+  // transmittance falls below stopBelow
+  auto addEntry = [&](int i, float f, bool full, double h, float m) __attribute__((always_inline)) {
     const Entry &ea = smp.table[i], &eb = smp.table[i + 1];  // (the last entry is repeated: i + 1 is in the table)
     // Opacity first (most samples of a partly transparent cell have none)
     const float opacity = ea.opacity + f * (eb.opacity - ea.opacity);
     if (opacity <= 0.0f) return true;
     // 1 - (1 - a)^(h / unitDistance), from the table for a full step; a = 1 gives log1p(-1) = -inf and alpha 1
-    const float alpha = full ? ea.alphaStep + f * (eb.alphaStep - ea.alphaStep)
-                             : float(-std::expm1(std::log1p(-double(opacity)) * h * perUnit));
-    if (emission) {  // color += (transmittance alpha) (ea.color + f (eb.color - ea.color)), the three at once
-      static_assert(offsetof(Entry, opacity) == 3 * sizeof(float), "colour, then opacity: one 16-byte load");
-      const __m128 a = _mm_loadu_ps(&ea.color.r), b = _mm_loadu_ps(&eb.color.r);  // (lane 3: opacity, unused)
-      const __m128 c = _mm_add_ps(a, _mm_mul_ps(_mm_set1_ps(f), _mm_sub_ps(b, a)));
-      color4 = _mm_add_ps(color4, _mm_mul_ps(_mm_set1_ps(transmittance * alpha), c));
+    float alpha = full ? ea.alphaStep + f * (eb.alphaStep - ea.alphaStep)
+                       : float(-std::expm1(std::log1p(-double(opacity)) * h * perUnit));
+    if constexpr (Shaded) {
+      // Alpha times the gradient opacity, the colour lit (shadow rays: transmittance only)
+      const Vec3f g = smp.gradient(at(m));
+      alpha *= shader->opacityFactor(g);
+      if (emission) color4 = _mm_add_ps(color4, _mm_mul_ps(_mm_set1_ps(transmittance * alpha),
+                                                           shade(g, m, lerpColor(ea, eb, f))));
+    } else if (emission) {  // color += (transmittance alpha) (ea.color + f (eb.color - ea.color)), the three at once
+      color4 = _mm_add_ps(color4, _mm_mul_ps(_mm_set1_ps(transmittance * alpha), lerpColor(ea, eb, f)));
     }
     transmittance *= 1.0f - alpha;
     return transmittance >= stopBelow;
   };
   // Adds scalar s sampled at a step's middle (addEntry)
-  auto add = [&](float s, bool full, double h) __attribute__((always_inline)) {
+  auto add = [&](float s, bool full, double h, float m) __attribute__((always_inline)) {
     ++samples;
     if (std::isnan(s)) {
       ++invalid;
@@ -304,7 +349,7 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
     }
     const float x = smp.tableIndex(s);
     const int i = int(x);  // (x in [0, kTableSize - 1]: an int conversion, cheaper than one to size_t)
-    return addEntry(i, x - float(i), full, h);
+    return addEntry(i, x - float(i), full, h, m);
   };
   // Four full steps' points at once (trilinear): x, y, z across the steps k .. k + 3
   const __m128 ex4 = _mm_set1_ps(float(entry.x)), ey4 = _mm_set1_ps(float(entry.y)), ez4 = _mm_set1_ps(float(entry.z));
@@ -358,7 +403,7 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
             ++invalid;
             continue;
           }
-          if (!addEntry(i[l], f[l], true, 0.0)) {
+          if (!addEntry(i[l], f[l], true, 0.0, (float(k) + (float(l) + 0.5f)) * dtF)) {
             terminated = true;
             break;
           }
@@ -367,7 +412,8 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
       if (terminated) break;
     }
     for (; k < fullStop; ++k) {
-      if (!add(smp.at(at(middle(k))), true, 0.0)) {
+      const float m = middle(k);
+      if (!add(smp.at(at(m)), true, 0.0, m)) {
         terminated = true;
         break;
       }
@@ -376,7 +422,8 @@ void Volume::march(const Ray& ray, double t0, double t1, bool emission, float st
     for (; k < runEnd && !terminated; ++k) {
       const double ta = t0 + double(k) * dt;
       if (!(t1 > ta)) continue;
-      if (!add(smp.at(at(middle(k))), false, t1 - ta)) terminated = true;
+      const float m = middle(k);
+      if (!add(smp.at(at(m)), false, t1 - ta, m)) terminated = true;
     }
   }
   alignas(16) float rgb[4];

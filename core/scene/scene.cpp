@@ -206,6 +206,7 @@ CommitStats Scene::commit() {
   st.secondsBuild = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   sanitizeInputs(st);
   updateFeatures();
+  prepareVolumeLights();
   return st;
 }
 

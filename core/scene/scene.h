@@ -233,6 +233,10 @@ class Scene {
   void setVolumeTransfer(uint32_t id, const TransferFunction& tf);
   void setVolumeVisible(uint32_t id, bool visible);
   void removeVolume(uint32_t id);
+  /// How shaded volumes (TransferFunction::shade) are lit by the lights (VolumeLighting; read at commit): the
+  /// ambient light colour (default 1) and whether the lights arrive along the viewing rays (default off).
+  Color volumeAmbient{1.0f};
+  bool volumeLightsAlongRays = false;
   std::size_t volumeCount() const { return volumes_.size(); }
   const Volume& volume(uint32_t id) const { return volumes_[id].volume; }
   /// Why volume id is not traced (empty if it is, or before the commit that prepares it).
@@ -349,6 +353,9 @@ class Scene {
     bool traced() const { return alive && volume.visible && volume.ready(); }
   };
   std::vector<SceneVolume> volumes_;
+  std::vector<VolumeLight> volumeLights_;  ///< The lights as volume shading sees them (made at commit).
+  VolumeLighting volumeLighting_;  ///< Ambient and alongRays as committed (lights: volumeLights_).
+  void prepareVolumeLights();
 
   UpgradeSlot upgrade_;  // first: see UpgradeSlot
   std::vector<Object> objects_;

@@ -48,6 +48,28 @@ void Scene::prepareVolumes(CommitStats& st) {
   }
 }
 
+void Scene::prepareVolumeLights() {
+  volumeLights_.clear();
+  for (const Light& l : lights_) {
+    if (!features_.volumes) break;
+    VolumeLight v;
+    v.radiance = std::max(0.0f, l.intensity) * glm::max(l.color, Color(0.0f));
+    if (!(maxComponent(v.radiance) > 0.0f)) continue;
+    v.positional = l.positional;
+    v.toLight = -l.direction();
+    v.position = l.position;
+    v.attenuation = l.attenuation;
+    v.axis = l.direction();
+    // VTK's rule: a positional light is a spot light when its cone angle is below 90 degrees
+    if (l.positional && l.coneAngle < 90.0) v.cosCone = std::cos(l.coneAngle * kPi / 180.0);
+    v.exponent = l.exponent;
+    volumeLights_.push_back(v);
+  }
+  volumeLighting_.ambient = glm::clamp(volumeAmbient, Color(0.0f), Color(1e6f));
+  if (!isFinite(Vec3f(volumeLighting_.ambient))) volumeLighting_.ambient = Color(1.0f);
+  volumeLighting_.alongRays = volumeLightsAlongRays;
+}
+
 void Scene::addVolumeBounds() {
   for (const SceneVolume& v : volumes_)
     if (v.traced()) bounds_.extend(v.volume.bounds());
@@ -86,8 +108,11 @@ void Scene::marchVolumes(const Ray& ray, double tEnd, bool emission, float stopB
   if (n == 0) return;
   Segment* seg = n <= 8 ? local : many.data();
   std::sort(seg, seg + n, [](const Segment& a, const Segment& b) { return a.t0 < b.t0; });
+  VolumeLighting lighting = volumeLighting_;  // (the lights' address taken here: a moved scene keeps them valid)
+  lighting.lights = volumeLights_.data();
+  lighting.count = volumeLights_.size();
   for (std::size_t i = 0; i < n && !acc.terminated; ++i)
-    seg[i].v->march(ray, seg[i].t0, seg[i].t1, emission, stopBelow, acc);
+    seg[i].v->march(ray, seg[i].t0, seg[i].t1, emission, stopBelow, acc, lighting);
 }
 
 }  // namespace whitted

@@ -10,6 +10,7 @@ Checks, from the frame report and screenshots:
     mirror, dilated by 3 pixels) change against the volume hidden: only its reflection can change them;
   - a colour-map edit (another preset) converts no grid, updates one transfer function, and changes the
     reflection's pixels;
+  - Shade on is traced too (a transfer update) and agrees with the Render View's shaded volume within MAE 3/255;
   - the Wavelet cut to tetrahedra (an unstructured grid) as Volume is traced too, resampled to image data, and
     agrees with the Render View's own projected tetrahedra within MAE 3/255.
 """
@@ -67,13 +68,15 @@ check(traced == 1 and opengl == 0, "the volume is traced, not drawn by OpenGL")
 check(footprint.sum() > 2000, "the volume covers pixels")
 
 
-def render_view_mae(source, traced, name):
+def render_view_mae(source, traced, name, shade=False):
     """MAE (8-bit levels) between traced and ParaView's Render View of source shown as Volume (the oracle), over
     the pixels either covers, and how many."""
     rv = wt.make_view(SIZE, proxy="RenderView")
     display = Show(source, rv)
     display.Representation = "Volume"
     ColorBy(display, ("POINTS", "RTData"))
+    if shade:
+        display.Shade = 1
     wt.set_camera(rv, EYE, FOCUS)
     raster = wt.screenshot(rv, os.path.join(args.tmp, name + "_render_view.png"), SIZE)
     covered = (np.abs(traced - background).max(axis=2) > 1) | (np.abs(raster - background).max(axis=2) > 1)
@@ -86,6 +89,23 @@ def render_view_mae(source, traced, name):
 mae, count = render_view_mae(wavelet, alone, "volume")
 print("against the Render View: MAE %.3f/255 over %d covered pixels (limit 3)" % (mae, count))
 check(mae <= 3.0, "the traced volume agrees with ParaView's Render View (MAE <= 3/255)")
+
+# Shade (the Volume Rendering section's checkbox): traced too, lit by ParaView's light kit, and toggling it is a
+# transfer update; against the Render View's shaded volume
+volume.Shade = 1
+Render(view)
+traced, converted, transfers, opengl = report(view)
+shaded = wt.screenshot(view, os.path.join(args.tmp, "volume_shaded.png"), SIZE)
+print("Shade: %d traced, %d converted, %d transfer updates, %d OpenGL props" % (traced, converted, transfers, opengl))
+check(traced == 1 and opengl == 0, "a shaded volume is traced, not drawn by OpenGL")
+check(converted == 0 and transfers == 1, "turning Shade on updates the transfer function only")
+mae, count = render_view_mae(wavelet, shaded, "volume_shaded", shade=True)
+changed = int((np.abs(shaded - alone).max(axis=2) > 8).sum())
+print("shaded against the Render View: MAE %.3f/255 over %d covered pixels (limit 3); %d pixels differ from the "
+      "unshaded frame" % (mae, count, changed))
+check(mae <= 3.0, "the shaded volume agrees with ParaView's Render View (MAE <= 3/255)")
+check(changed > 1000, "Shade changes the image")
+volume.Shade = 0
 
 # A mirror floor under it
 floor_source = Plane(Origin=[-40.0, -14.0, 40.0], Point1=[40.0, -14.0, 40.0], Point2=[-40.0, -14.0, -40.0])

@@ -17,7 +17,8 @@
 //  4. Bad input (NaN scalars, zero spacing, a single point along an axis, an empty image): one
 //     warning naming the problem, the rest of the scene as without the volume (within 1/255; NaN
 //     scalars are traced as transparent), no NaN or infinite value in the frame, no error.
-//  5. MIP blend, gradient opacity, Shade: left to OpenGL with one warning naming the setting.
+//  5. MIP blend: left to OpenGL with one warning naming the setting (Shade and gradient opacity are
+//     traced: TestWhittedPythonVolumeShade).
 #include "WhittedTestUtilities.h"
 
 #include "vtkColorTransferFunction.h"
@@ -548,18 +549,5 @@ int TestWhittedVolume(int, char*[])
          { vtkVolumeMapper::SafeDownCast(v->GetMapper())->SetBlendModeToMaximumIntensity(); },
          "blend mode") &&
     ok;
-  ok = Fallback(
-         "gradient opacity",
-         [](vtkVolume* v)
-         {
-           vtkNew<vtkPiecewiseFunction> g;
-           g->AddPoint(0.0, 0.0);
-           g->AddPoint(1.0, 1.0);
-           v->GetProperty()->SetGradientOpacity(g);
-         },
-         "gradient opacity") &&
-    ok;
-  ok = Fallback(
-         "Shade", [](vtkVolume* v) { v->GetProperty()->ShadeOn(); }, "Shade on") && ok;
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }

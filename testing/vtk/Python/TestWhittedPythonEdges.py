@@ -26,7 +26,7 @@ import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
 from vtkmodules.util.misc import calldata_type
 from whitted import vtkWhittedMaterialKeys, vtkWhittedPass
 from whitted_imagetest import (apply_test_switches, check_against_raster, check_baseline, edge_mask, grab, near,
-                               offscreen_render)
+                               offscreen_render, plain_pass)
 
 SIZE = 200
 
@@ -94,14 +94,6 @@ def window(ren, width, height, render_pass):
     win.AddRenderer(ren)
     ren.SetPass(render_pass)
     return win
-
-
-def plain_pass():
-    p = vtkWhittedPass()
-    p.SetShadows(False)
-    p.SetReflections(False)
-    p.SetRefractions(False)
-    return p
 
 
 def edge_scene(width):

@@ -39,6 +39,16 @@ def offscreen_render(ren, size, render_pass=None, after=None):
     return image, extra
 
 
+def plain_pass():
+    """A vtkWhittedPass with shadows, reflections and refractions off (VTK's local shading only)."""
+    from whitted import vtkWhittedPass
+    p = vtkWhittedPass()
+    p.SetShadows(False)
+    p.SetReflections(False)
+    p.SetRefractions(False)
+    return p
+
+
 def edge_mask(rgb):
     """Pixels of a reddish edge colour (red above 120, blue below half of it) in an RGB image."""
     return (rgb[:, :, 0] > 120) & (rgb[:, :, 2] < 0.5 * rgb[:, :, 0])

@@ -1,0 +1,34 @@
+// Shading of volume samples (vtkVolumeProperty Shade and gradient opacity) for the march (volume_sampling.cpp):
+// the per-ray constants, and a sample's lit colour and gradient-opacity factor from its central differences.
+#pragma once
+
+#include "geometry/volume.h"
+
+namespace whitted {
+
+/// What one march needs to shade samples: made once per ray segment.
+class VolumeShader {
+ public:
+  /// emission false (a shadow ray's transmittance): gradient opacity only.
+  VolumeShader(const Volume& v, const Ray& ray, const VolumeLighting& lighting, bool emission);
+  /// Shading or gradient opacity is on (else the march reads no gradient).
+  bool active() const { return active_; }
+  /// The gradient-opacity factor of a sample's alpha (1 without gradient opacity); g holds the scalar's central
+  /// differences along the grid's index axes, s(p + o e_a) - s(p - o e_a), taken as over two points (as VTK's GPU
+  /// mapper takes them, whose offset o is n / (n - 1) points).
+  float opacityFactor(const Vec3f& g) const;
+  /// The colour c of the sample at world point x with central differences g, lit (transfer.shade; else c) and
+  /// clamped to [0, 1]. A zero or non-finite gradient has no direction: ambient only.
+  Color shade(const Vec3f& g, const Vec3& x, const Color& c) const;
+
+ private:
+  const TransferFunction& tf_;
+  const VolumeLighting& lighting_;
+  bool active_, shade_, gradientOpacity_;
+  Mat3 toWorldGradient_;  ///< Index-space differences -> world-space gradient direction (toIndex transposed).
+  Vec3 dataScale_;        ///< Index-space differences -> gradient in the grid's axes times the mean spacing, x 2.
+  double goScale_;        ///< Gradient magnitude -> index into tf.gradientOpacity.
+  Vec3 toEye_;            ///< Unit vector back along the ray.
+};
+
+}  // namespace whitted
