@@ -178,11 +178,19 @@ struct Volume::Sampler {
   /// offset o_a = n_a / (n_a - 1) points (one texel of its texture, whose texels centre on the n_a points: a
   /// gradient of a coarse grid turns with it), the reads clamped to the grid by at(), as VTK's texture reads clamp.
   Vec3f gradient(__m128 p) const {
-    const __m128 ex = _mm_and_ps(gradStep, _mm_castsi128_ps(_mm_setr_epi32(-1, 0, 0, 0)));
-    const __m128 ey = _mm_and_ps(gradStep, _mm_castsi128_ps(_mm_setr_epi32(0, -1, 0, 0)));
-    const __m128 ez = _mm_and_ps(gradStep, _mm_castsi128_ps(_mm_setr_epi32(0, 0, -1, 0)));
-    return Vec3f(at(_mm_add_ps(p, ex)) - at(_mm_sub_ps(p, ex)), at(_mm_add_ps(p, ey)) - at(_mm_sub_ps(p, ey)),
-                 at(_mm_add_ps(p, ez)) - at(_mm_sub_ps(p, ez)));
+    // Two at4() calls (the same values as at() per point): x+, x-, y+, y-, then z+, z- (twice)
+    const __m128 px = _mm_shuffle_ps(p, p, _MM_SHUFFLE(0, 0, 0, 0)), py = _mm_shuffle_ps(p, p, _MM_SHUFFLE(1, 1, 1, 1)),
+                 pz = _mm_shuffle_ps(p, p, _MM_SHUFFLE(2, 2, 2, 2));
+    const __m128 o = gradStep, zero = _mm_setzero_ps();
+    const __m128 ox = _mm_shuffle_ps(o, o, _MM_SHUFFLE(0, 0, 0, 0)), oy = _mm_shuffle_ps(o, o, _MM_SHUFFLE(1, 1, 1, 1)),
+                 oz = _mm_shuffle_ps(o, o, _MM_SHUFFLE(2, 2, 2, 2));
+    const __m128 plusMinus = _mm_setr_ps(1.0f, -1.0f, 1.0f, -1.0f);
+    const __m128 xOff = _mm_movelh_ps(_mm_mul_ps(ox, plusMinus), zero);  // +ox -ox 0 0
+    const __m128 yOff = _mm_movelh_ps(zero, _mm_mul_ps(oy, plusMinus));  // 0 0 +oy -oy
+    alignas(16) float a[4], b[4];
+    at4(_mm_add_ps(px, xOff), _mm_add_ps(py, yOff), pz, a);
+    at4(px, py, _mm_add_ps(pz, _mm_mul_ps(oz, plusMinus)), b);
+    return Vec3f(a[0] - a[1], a[2] - a[3], b[0] - b[1]);
   }
   /// at() of four points (lanes: x, y, z of point l in lane l of each) by trilinear interpolation, into out[4]:
   /// the same single-precision operations per point, so the same values; the 32 reads issued together.

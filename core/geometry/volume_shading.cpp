@@ -14,8 +14,8 @@ VolumeShader::VolumeShader(const Volume& v, const Ray& ray, const VolumeLighting
       gradientOpacity_(!v.transfer.gradientOpacity.empty() && v.transfer.gradientOpacityMax > 0.0) {
   active_ = shade_ || gradientOpacity_;
   // A world vector w has index coordinates toIndex w, so the scalar's world gradient is toIndex^T times its
-  // index-space gradient
-  toWorldGradient_ = glm::transpose(v.toIndex());
+  // index-space gradient (single precision: only its direction is used, for 8-bit colours)
+  toWorldGradient_ = glm::mat3(glm::transpose(v.toIndex()));
   // In the grid's own axes (direction matrix left out: a rotation keeps the magnitude) a difference over two
   // points is (s+ - s-) / (2 spacing); times the mean spacing
   const Vec3& sp = v.grid.spacing;
@@ -23,7 +23,21 @@ VolumeShader::VolumeShader(const Volume& v, const Ray& ray, const VolumeLighting
   dataScale_ = Vec3(mean / (2.0 * std::abs(sp.x)), mean / (2.0 * std::abs(sp.y)), mean / (2.0 * std::abs(sp.z)));
   goScale_ = gradientOpacity_ ? double(v.transfer.gradientOpacity.size() - 1) / v.transfer.gradientOpacityMax : 0.0;
   const double len = glm::length(ray.dir);
-  toEye_ = len > 0.0 ? -ray.dir / len : Vec3(0.0);
+  toEye_ = len > 0.0 ? Vec3f(-ray.dir / len) : Vec3f(0.0f);
+  // Lights whose direction is the same all along the ray: direction and half vector once here
+  for (std::size_t k = 0; shade_ && lighting.lights && k < lighting.count; ++k) {
+    const VolumeLight& l = lighting.lights[k];
+    if ((l.positional && !lighting.alongRays) || fixedCount_ == kFixed) {
+      allFixed_ = false;
+      continue;
+    }
+    Fixed& f = fixed_[fixedCount_++];
+    f.toLight = lighting.alongRays ? toEye_ : Vec3f(l.toLight);
+    const Vec3f h = f.toLight + toEye_;
+    const float hl = glm::length(h);
+    f.half = hl > 0.0f ? h / hl : Vec3f(0.0f);
+    f.radiance = l.radiance;
+  }
 }
 
 float VolumeShader::opacityFactor(const Vec3f& g) const {
@@ -43,39 +57,39 @@ float VolumeShader::opacityFactor(const Vec3f& g) const {
 
 Color VolumeShader::shade(const Vec3f& g, const Vec3& x, const Color& c) const {
   if (!shade_) return c;
-  const Vec3 gi(g);
   Color diffuse(0.0f), specular(0.0f);
-  const Vec3 gw = toWorldGradient_ * gi;
-  const double len = glm::length(gw);
-  if (len > 0.0 && std::isfinite(len)) {
-    const Vec3 n = gw / len;
-    for (std::size_t k = 0; lighting_.lights && k < lighting_.count; ++k) {
+  const Vec3f gw = toWorldGradient_ * g;
+  const float len = glm::length(gw);
+  const bool highlight = tf_.specular > 0.0f;
+  if (len > 0.0f && std::isfinite(len)) {
+    const Vec3f n = gw / len;
+    // Two-sided (VTK's renderer default): the gradient's sign does not matter
+    for (std::size_t k = 0; k < fixedCount_; ++k) {
+      const Fixed& f = fixed_[k];
+      diffuse += std::abs(glm::dot(n, f.toLight)) * f.radiance;
+      if (highlight) specular += std::pow(std::abs(glm::dot(n, f.half)), tf_.specularPower) * f.radiance;
+    }
+    for (std::size_t k = 0; !allFixed_ && k < lighting_.count; ++k) {
       const VolumeLight& l = lighting_.lights[k];
-      Vec3 toLight = lighting_.alongRays ? toEye_ : l.toLight;
-      double att = 1.0;
-      if (l.positional && !lighting_.alongRays) {
-        // VTK's attenuation 1 / (a0 + a1 d + a2 d^2) and spot cone
-        const Vec3 d = l.position - x;
-        const double dist = glm::length(d);
-        if (!(dist > 0.0)) continue;
-        toLight = d / dist;
-        const double a = l.attenuation.x + dist * (l.attenuation.y + dist * l.attenuation.z);
-        att = a > 0.0 ? 1.0 / a : 1.0;
-        if (l.cosCone > -1.0) {
-          const double cd = -glm::dot(toLight, l.axis);
-          att = cd >= l.cosCone ? att * std::pow(cd, l.exponent) : 0.0;
-        }
-        if (!(att > 0.0)) continue;
+      if (!l.positional || lighting_.alongRays) continue;  // (in fixed_)
+      // VTK's attenuation 1 / (a0 + a1 d + a2 d^2) and spot cone
+      const Vec3 d = l.position - x;
+      const double dist = glm::length(d);
+      if (!(dist > 0.0)) continue;
+      const Vec3 toLight = d / dist;
+      const double a = l.attenuation.x + dist * (l.attenuation.y + dist * l.attenuation.z);
+      double att = a > 0.0 ? 1.0 / a : 1.0;
+      if (l.cosCone > -1.0) {
+        const double cd = -glm::dot(toLight, l.axis);
+        att = cd >= l.cosCone ? att * std::pow(cd, l.exponent) : 0.0;
       }
-      // Two-sided (VTK's renderer default): the gradient's sign does not matter
-      const double nl = std::abs(glm::dot(n, toLight));
-      diffuse += float(att * nl) * l.radiance;
-      const Vec3 h = toLight + toEye_;
-      const double hl = glm::length(h);
-      if (hl > 0.0) {
-        const double nh = std::abs(glm::dot(n, h)) / hl;
-        specular += float(att * std::pow(nh, double(tf_.specularPower))) * l.radiance;
-      }
+      if (!(att > 0.0)) continue;
+      const Vec3f lf(toLight);
+      diffuse += float(att) * std::abs(glm::dot(n, lf)) * l.radiance;
+      const Vec3f h = lf + toEye_;
+      const float hl = glm::length(h);
+      if (highlight && hl > 0.0f)
+        specular += float(att) * std::pow(std::abs(glm::dot(n, h)) / hl, tf_.specularPower) * l.radiance;
     }
   }
   const Color lit = tf_.ambient * lighting_.ambient * c + tf_.diffuse * diffuse * c + tf_.specular * specular;

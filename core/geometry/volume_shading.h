@@ -22,13 +22,23 @@ class VolumeShader {
   Color shade(const Vec3f& g, const Vec3& x, const Color& c) const;
 
  private:
+  /// A light whose direction does not change along the ray (directional, or along the ray): its direction toward
+  /// the light and its half vector with the view direction, set once per ray segment.
+  struct Fixed {
+    Vec3f toLight, half;
+    Color radiance;
+  };
+  static constexpr std::size_t kFixed = 8;  ///< Lights set up per ray segment; others per sample.
   const TransferFunction& tf_;
   const VolumeLighting& lighting_;
   bool active_, shade_, gradientOpacity_;
-  Mat3 toWorldGradient_;  ///< Index-space differences -> world-space gradient direction (toIndex transposed).
-  Vec3 dataScale_;        ///< Index-space differences -> gradient in the grid's axes times the mean spacing, x 2.
-  double goScale_;        ///< Gradient magnitude -> index into tf.gradientOpacity.
-  Vec3 toEye_;            ///< Unit vector back along the ray.
+  glm::mat3 toWorldGradient_;///< Index-space differences -> world-space gradient direction (toIndex transposed).
+  Vec3 dataScale_;         ///< Index-space differences -> gradient in the grid's axes times the mean spacing, x 2.
+  double goScale_;         ///< Gradient magnitude -> index into tf.gradientOpacity.
+  Vec3f toEye_;            ///< Unit vector back along the ray.
+  Fixed fixed_[kFixed];
+  std::size_t fixedCount_ = 0;
+  bool allFixed_ = true;   ///< Every light is in fixed_.
 };
 
 }  // namespace whitted

@@ -267,8 +267,9 @@ void buildVolume(BenchScene& out, int n, bool skip) {
 /// The volume of testing/benchmark/vtk_volume_bench.py with its effects off, for paired runs without VTK: vtkRTAnalyticSource's
 /// field with its defaults (Maximum 255, standard deviation 0.5, frequencies 60 30 40, magnitudes 10 18 5) over the
 /// extent -n/2 .. n/2 - 1, spacing 1; cool-warm colour over the range, opacity 0 up to 130 and 0.2 at the top per
-/// unit distance 1; sample distance 1; no surface, no light; the script's camera.
-void buildWavelet(BenchScene& out, int n) {
+/// unit distance 1; sample distance 1; no surface, no light (with shade: the script's light); the script's camera.
+/// shade: Shade on (VTK's defaults) under the script's scene light.
+void buildWavelet(BenchScene& out, int n, bool shade) {
   const int half = n / 2, dims[3] = {n, n, n};
   std::vector<float> s(std::size_t(n) * n * n);
   const double scale = 1.0 / double(n - 1), inv2s2 = 1.0 / (2.0 * 0.5 * 0.5);
@@ -292,7 +293,14 @@ void buildWavelet(BenchScene& out, int n) {
   v.transfer.colorY = {Color(0.23f, 0.3f, 0.75f), Color(0.87f, 0.87f, 0.87f), Color(0.71f, 0.02f, 0.15f)};
   v.transfer.unitDistance = 1.0;
   v.sampleDistance = 1.0;
+  v.transfer.shade = shade;
   out.scene.addVolume(std::move(v));
+  if (shade) {  // the script's scene light: directional, from (-0.6, 3, 1.5) x half toward the centre
+    Light l;
+    l.position = Vec3(-0.6 * half, 3.0 * half, 1.5 * half);
+    out.scene.lights().push_back(l);
+    out.scene.volumeAmbient = Color(0.0f);  // VTK: the sum of the lights' ambient colours (black)
+  }
   out.scene.background = Color(0.32f, 0.34f, 0.43f);
   out.camera.eye = Vec3(2.4 * half, 1.8 * half, 4.8 * half);
   out.camera.focal = Vec3(0.0);
@@ -462,9 +470,12 @@ bool buildNamed(const std::string& name, const std::vector<std::string>& dataDir
     out.description = "glass and mirror balls between two facing mirrors (deep recursion)";
     return true;
   }
-  if (name == "wavelet256" || name == "wavelet64") {
-    buildWavelet(out, name == "wavelet256" ? 256 : 64);
-    out.description = name.substr(7) + "^3 vtkRTAnalyticSource-like volume of vtk_volume_bench.py, effects off";
+  if (name == "wavelet256" || name == "wavelet64" || name == "wavelet256-shade" || name == "wavelet64-shade") {
+    const bool shade = name.find("-shade") != std::string::npos;
+    buildWavelet(out, name.compare(0, 10, "wavelet256") == 0 ? 256 : 64, shade);
+    out.description = name.substr(7, name.compare(0, 10, "wavelet256") == 0 ? 3 : 2) +
+                      "^3 vtkRTAnalyticSource-like volume of vtk_volume_bench.py, effects off" +
+                      (shade ? ", Shade on" : "");
     return true;
   }
   if (name == "volume256" || name == "volume64" || name == "volume256-noskip" || name == "volume64-noskip") {

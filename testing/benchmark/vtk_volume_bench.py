@@ -2,7 +2,8 @@
 """The volume anchor of issue 29: a 256^3 wavelet (vtkRTAnalyticSource, whole extent -128..127) volume-rendered at
 1024x768, 1 spp, by VTK's vtkGPUVolumeRayCastMapper (llvmpipe here), by vtkFixedPointVolumeRayCastMapper, and by
 vtkWhittedPass tracing the same vtkVolume (GPU mapper input) with its effects off, then with shadows (a floor under
-the volume, shadowed by it) and with a mirror floor, so each effect's cost is listed.
+the volume, shadowed by it) and with a mirror floor, so each effect's cost is listed; and the three with Shade on
+(gpu-shade, fixedpoint-shade, whitted-shade: VTK's gradient shading, its defaults, under the same light).
 
 Run under Xvfb, with the VTK module on PYTHONPATH for the Whitted modes:
 
@@ -42,6 +43,8 @@ def write_row(path, row):
 
 
 def build(mode, size, half):
+    shade = mode.endswith("-shade")
+    mode = mode[:-len("-shade")] if shade else mode
     import vtk  # noqa: F401  (object factories: OpenGL render window, volume mappers)
     from vtkmodules.vtkImagingCore import vtkRTAnalyticSource
     from vtkmodules.vtkRenderingCore import (vtkActor, vtkColorTransferFunction, vtkLight, vtkPolyDataMapper,
@@ -77,6 +80,7 @@ def build(mode, size, half):
     prop.SetScalarOpacity(opacity)
     prop.SetScalarOpacityUnitDistance(1.0)
     prop.SetInterpolationTypeToLinear()
+    prop.SetShade(1 if shade else 0)
     volume = vtkVolume()
     volume.SetMapper(mapper)
     volume.SetProperty(prop)
@@ -176,7 +180,8 @@ def main():
     ap.add_argument("--csv", required=True)
     ap.add_argument("--size", default="1024x768")
     ap.add_argument("--dims", type=int, default=256, help="points per axis (even)")
-    ap.add_argument("--modes", default="gpu,fixedpoint,whitted,whitted-shadow,whitted-mirror")
+    ap.add_argument("--modes", default="gpu,fixedpoint,whitted,whitted-shadow,whitted-mirror,gpu-shade,"
+                    "fixedpoint-shade,whitted-shade")
     ap.add_argument("--reps", type=int, default=5)
     ap.add_argument("--warmup", type=int, default=1)
     ap.add_argument("--png", default="", help="prefix: write each mode's last frame")

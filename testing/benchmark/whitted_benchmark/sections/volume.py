@@ -1,19 +1,23 @@
 """Volumes (issue 29): a vtkRTAnalyticSource volume rendered by VTK's vtkGPUVolumeRayCastMapper (llvmpipe here) and
 vtkFixedPointVolumeRayCastMapper, and traced by vtkWhittedPass with its effects off, with shadows on a floor and
-with a mirror floor (vtk_volume_bench.py): first frame, frame after a camera turn, peak memory; each mode in a
-process of its own."""
+with a mirror floor, and the three with Shade on (vtk_volume_bench.py): first frame, frame after a camera turn,
+peak memory; each mode in a process of its own."""
 import os
 
 from .. import plots
 from ..markdown import commands_block, fmt_ratio, md_table, ms, ratio
 from ..runner import HERE, VTK_PYTHON, XVFB, fresh, read_csv, vtk_tools_ok, whitted_env
 
-MODES = ["gpu", "fixedpoint", "whitted", "whitted-shadow", "whitted-mirror"]
+MODES = ["gpu", "fixedpoint", "whitted", "whitted-shadow", "whitted-mirror", "gpu-shade", "fixedpoint-shade",
+         "whitted-shade"]
 LABELS = {"gpu": "VTK vtkGPUVolumeRayCastMapper (llvmpipe)",
           "fixedpoint": "VTK vtkFixedPointVolumeRayCastMapper",
           "whitted": "vtkWhittedPass, effects off",
           "whitted-shadow": "vtkWhittedPass, floor and shadows",
-          "whitted-mirror": "vtkWhittedPass, mirror floor and shadows"}
+          "whitted-mirror": "vtkWhittedPass, mirror floor and shadows",
+          "gpu-shade": "VTK vtkGPUVolumeRayCastMapper, Shade on",
+          "fixedpoint-shade": "VTK vtkFixedPointVolumeRayCastMapper, Shade on",
+          "whitted-shade": "vtkWhittedPass, effects off, Shade on"}
 
 
 def run(ctx):
@@ -111,8 +115,18 @@ def report(ctx, head):
             if e:
                 costs.append("%s: %.2fx the effects-off frame" % (LABELS[mode],
                                                                   e["seconds_median"] / w["seconds_median"]))
+        shaded = _median_row(rows, "whitted-shade")
+        if shaded:
+            costs.append("%s: %.2fx" % (LABELS["whitted-shade"], shaded["seconds_median"] / w["seconds_median"]))
         if costs:
             L.append("\nCost of each effect: " + "; ".join(costs) + ".\n")
+        shaded_anchors = [a for a in (_median_row(rows, "gpu-shade"), _median_row(rows, "fixedpoint-shade")) if a]
+        if shaded and shaded_anchors:
+            best = min(shaded_anchors, key=lambda a: a["seconds_median"])
+            L.append("With Shade on, vtkWhittedPass takes %s ms against %s ms for the faster VTK mapper shading too "
+                     "(%s): %s of its time.\n" % (ms(shaded["seconds_median"]), ms(best["seconds_median"]),
+                                                  LABELS[best["mode"]],
+                                                  fmt_ratio(ratio(shaded["seconds_median"], best["seconds_median"]))))
     L += _steps_report(ctx)
     L.append(commands_block(ctx, "volume"))
     return L
