@@ -224,6 +224,18 @@ def check_volume(tmp, report):
     changed = int(((np.abs(edited - with_volume).max(axis=2) > 8) & reflection).sum())
     report(changed > 0.3 * reflection.sum(), "the edit shows in the mirror in the next frame (%d of %d reflection "
            "pixels change)" % (changed, reflection.sum()))
+    # Shade (the Volume Rendering section's checkbox): still traced, a transfer update, and lit by the view's light
+    # kit in the mirror too
+    wd.Shade = 1
+    Render(view)
+    frame = _volume_report(view)
+    shaded = shot("shaded")
+    report(frame is not None and frame[0] == 1 and frame[3] == 0 and frame[1] == 0 and frame[2] == 1,
+           "Shade on: the volume is still traced, one transfer update, no grid converted (frame report: %s)" % (frame,))
+    changed = int(((np.abs(shaded - edited).max(axis=2) > 8) & reflection).sum())
+    report(changed > 0.3 * reflection.sum(), "the shaded volume shows in the mirror (%d of %d reflection pixels "
+           "change)" % (changed, reflection.sum()))
+    wd.Shade = 0
     for bar in legends:
         bar.Visibility = 1
 
