@@ -79,6 +79,7 @@ KEY_PATTERNS = [
     r"^ParaView still frame.*\(all lights\)",
     r"^ParaView first frame(?!.*all lights)",
     r"^ParaView frame after the contour value changes(?!.*all lights)",
+    r"^\S+ volume, vtkWhittedPass \(effects off\) vs the faster VTK mapper",
     r"^classic \S+ vs POV-Ray 3.7, frame CPU",
 ]
 RAY_KINDS = ["primary", "shadow", "incoherent"]
