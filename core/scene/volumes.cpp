@@ -17,6 +17,14 @@ void Scene::setVolume(uint32_t id, Volume v) {
   sv.volume = std::move(v);
 }
 
+std::vector<float> Scene::releaseVolumeScalars(uint32_t id) {
+  SceneVolume& sv = volumes_[id];
+  std::vector<float> scalars = std::move(sv.volume.grid.scalars);
+  sv.volume.grid.scalars.clear();
+  sv.dirty = true;  // (prepare then finds the grid empty and skips it, unless setVolume comes first)
+  return scalars;
+}
+
 void Scene::setVolumeTransfer(uint32_t id, const TransferFunction& tf) {
   volumes_[id].volume.transfer = tf;
   volumes_[id].dirty = true;

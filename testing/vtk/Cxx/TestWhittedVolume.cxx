@@ -22,8 +22,10 @@
 #include "WhittedTestUtilities.h"
 
 #include "vtkColorTransferFunction.h"
+#include "vtkFloatArray.h"
 #include "vtkGPUVolumeRayCastMapper.h"
 #include "vtkPiecewiseFunction.h"
+#include "vtkSOADataArrayTemplate.h"
 #include "vtkSmartVolumeMapper.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
@@ -245,6 +247,25 @@ bool Edits()
   }
   img->Modified();
   ok = CheckAgreement("new scalars", win, ren, pass) && counts("new scalars", 1, 0) && ok;
+  // The next "time step" of the same size in a structure-of-arrays array (no standard memory
+  // layout: read component by component), written over the traced grid's memory
+  {
+    vtkNew<vtkSOADataArrayTemplate<float>> soa;
+    soa->SetNumberOfComponents(1);
+    soa->SetNumberOfTuples(img->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < img->GetNumberOfPoints(); ++i)
+    {
+      soa->SetValue(i, s[i] * s[i] * s[i]);
+    }
+    soa->SetName("cubed");
+    img->GetPointData()->SetScalars(soa);
+    ok = CheckAgreement("same-size step, SOA array", win, ren, pass) && counts("SOA step", 1, 0) && ok;
+    vtkNew<vtkFloatArray> back; // and the same values again in an ordinary float array
+    back->DeepCopy(soa);
+    img->GetPointData()->SetScalars(back);
+    ok = CheckAgreement("same-size step, float again", win, ren, pass) && counts("float step", 1, 0) && ok;
+    s = back->GetPointer(0);
+  }
   volume->SetPosition(0.2, -0.1, 0.1);
   volume->SetOrientation(20.0, 35.0, 0.0);
   volume->SetScale(1.0, 0.7, 1.2);
