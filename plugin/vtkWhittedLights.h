@@ -30,8 +30,8 @@ struct Summary
   bool LightsOn = false;
   /// How vtkGPUVolumeRayCastMapper (VTK 9.1) lights shaded volumes (whitted::VolumeLighting): a
   /// lone headlight of intensity 1 shines along each viewing ray and the ambient term is the
-  /// property's; otherwise each light has its direction and the ambient term is scaled by the sum
-  /// of the lights' ambient colours (black by default).
+  /// property's (times the sample colour); otherwise each light has its direction and the ambient
+  /// term is the property's times the sum of the lights' ambient colours (black by default).
   bool VolumeLightsAlongRays = false;
   whitted::Color VolumeAmbient{ 1.0f };
 };

@@ -219,7 +219,7 @@ std::string BadGrid(vtkImageData* image, vtkDataArray* array, const Mat4& matrix
 
 // The scalars as float, x fastest, written over out (resized only when its size differs)
 template <typename T>
-void CopyScalars(const T* data, std::size_t n, std::vector<float>& out)
+void CopyScalars(const T* data, std::size_t n, whitted::LargeVector<float>& out)
 {
   out.resize(n);
   for (std::size_t i = 0; i < n; ++i)
@@ -231,7 +231,7 @@ void CopyScalars(const T* data, std::size_t n, std::vector<float>& out)
 // The grid of image's scalars array, placed by matrix; the scalars are written into reuse's memory
 // when it has their size (a new time step of the same grid: no allocation, no page faults)
 whitted::VolumeGrid Grid(
-  vtkImageData* image, vtkDataArray* array, const Mat4& matrix, std::vector<float> reuse = {})
+  vtkImageData* image, vtkDataArray* array, const Mat4& matrix, whitted::LargeVector<float> reuse = {})
 {
   whitted::VolumeGrid g;
   image->GetDimensions(g.dims);
@@ -476,7 +476,7 @@ vtkWhittedVolumeConverter::Verdict vtkWhittedVolumeConverter::Convert(
   const bool newGeometry = !std::equal(geometry, geometry + 18, e.Geometry);
   if (newData)
   {
-    array->GetRange(e.Range, 0);
+    array->GetFiniteRange(e.Range, 0); // (as VTK's volume texture: infinite values left out)
   }
   // The transfer functions' own times, not the property's (VTK's mappers touch the property when
   // they draw it)
@@ -498,7 +498,7 @@ vtkWhittedVolumeConverter::Verdict vtkWhittedVolumeConverter::Convert(
       // A grid of the same size replaces the traced one (the next time step): written over its
       // memory. Allocating and zeroing a fresh 64 MB grid took 23-450 ms here, page faults and
       // all, against 30 ms for the copy itself
-      std::vector<float> reuse;
+      whitted::LargeVector<float> reuse;
       if (e.InScene &&
         this->Scene.volume(e.Id).grid.scalars.size() ==
           static_cast<std::size_t>(image->GetNumberOfPoints()))

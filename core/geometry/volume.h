@@ -6,6 +6,7 @@
 #pragma once
 
 #include "util/math.h"
+#include "util/memory.h"
 
 #include <cstdint>
 #include <string>
@@ -58,8 +59,9 @@ struct VolumeLight {
 struct VolumeLighting {
   const VolumeLight* lights = nullptr;
   std::size_t count = 0;
-  /// The ambient term is ambient x this x the sample's colour. VTK's GPU mapper: 1 for a lone headlight, else the
-  /// sum of the lights' ambient colours times their intensities (vtkLight's default ambient colour is black).
+  /// The ambient term is ambient x this, times the sample's colour along rays. VTK's GPU mapper: ambient x C for a
+  /// lone headlight (this 1), else ambient x the sum of the lights' ambient colours times their intensities
+  /// (vtkLight's default ambient colour is black), not times C.
   Color ambient{1.0f};
   /// Every light arrives along the viewing ray (l = the direction back along the ray), as VTK's GPU mapper lights
   /// a lone headlight of intensity 1 (a lamp at the eye); else each light's own direction.
@@ -74,7 +76,7 @@ struct VolumeGrid {
   Vec3 origin{0.0};
   Vec3 spacing{1.0};
   Mat3 direction{1.0};
-  std::vector<float> scalars;
+  LargeVector<float> scalars;  ///< (huge pages: a 256^3 grid in 32 page faults, not 16384: util/memory.h)
 
   /// A grid of data[nx * ny * nz] of any arithmetic type (float, double, integers), converted to float once.
   template <typename T>

@@ -27,7 +27,12 @@ VolumeShader::VolumeShader(const Volume& v, const Ray& ray, const VolumeLighting
   // Lights whose direction is the same all along the ray: direction and half vector once here
   for (std::size_t k = 0; shade_ && lighting.lights && k < lighting.count; ++k) {
     const VolumeLight& l = lighting.lights[k];
-    if ((l.positional && !lighting.alongRays) || fixedCount_ == kFixed) {
+    if (fixedCount_ == kFixed) {  // full: this light and the rest per sample
+      allFixed_ = false;
+      break;
+    }
+    fixedUpTo_ = k + 1;
+    if (l.positional && !lighting.alongRays) {
       allFixed_ = false;
       continue;
     }
@@ -71,20 +76,25 @@ Color VolumeShader::shade(const Vec3f& g, const Vec3& x, const Color& c) const {
     }
     for (std::size_t k = 0; !allFixed_ && k < lighting_.count; ++k) {
       const VolumeLight& l = lighting_.lights[k];
-      if (!l.positional || lighting_.alongRays) continue;  // (in fixed_)
-      // VTK's attenuation 1 / (a0 + a1 d + a2 d^2) and spot cone
-      const Vec3 d = l.position - x;
-      const double dist = glm::length(d);
-      if (!(dist > 0.0)) continue;
-      const Vec3 toLight = d / dist;
-      const double a = l.attenuation.x + dist * (l.attenuation.y + dist * l.attenuation.z);
-      double att = a > 0.0 ? 1.0 / a : 1.0;
-      if (l.cosCone > -1.0) {
-        const double cd = -glm::dot(toLight, l.axis);
-        att = cd >= l.cosCone ? att * std::pow(cd, l.exponent) : 0.0;
+      const bool direction = !l.positional || lighting_.alongRays;
+      if (direction && k < fixedUpTo_) continue;  // (in fixed_)
+      Vec3f lf = lighting_.alongRays ? toEye_ : Vec3f(l.toLight);
+      double att = 1.0;
+      if (!direction) {
+        // VTK's attenuation 1 / (a0 + a1 d + a2 d^2) and spot cone
+        const Vec3 d = l.position - x;
+        const double dist = glm::length(d);
+        if (!(dist > 0.0)) continue;
+        const Vec3 toLight = d / dist;
+        const double a = l.attenuation.x + dist * (l.attenuation.y + dist * l.attenuation.z);
+        att = a > 0.0 ? 1.0 / a : 1.0;
+        if (l.cosCone > -1.0) {
+          const double cd = -glm::dot(toLight, l.axis);
+          att = cd >= l.cosCone ? att * std::pow(cd, l.exponent) : 0.0;
+        }
+        if (!(att > 0.0)) continue;
+        lf = Vec3f(toLight);
       }
-      if (!(att > 0.0)) continue;
-      const Vec3f lf(toLight);
       diffuse += float(att) * std::abs(glm::dot(n, lf)) * l.radiance;
       const Vec3f h = lf + toEye_;
       const float hl = glm::length(h);
@@ -92,7 +102,10 @@ Color VolumeShader::shade(const Vec3f& g, const Vec3& x, const Color& c) const {
         specular += float(att) * std::pow(std::abs(glm::dot(n, h)) / hl, tf_.specularPower) * l.radiance;
     }
   }
-  const Color lit = tf_.ambient * lighting_.ambient * c + tf_.diffuse * diffuse * c + tf_.specular * specular;
+  // The ambient term: ka C for a lone headlight, ka x the lights' ambient colours otherwise (VTK 9.1's two cases;
+  // the second does not multiply it by the sample's colour)
+  const Color ambient = lighting_.alongRays ? tf_.ambient * lighting_.ambient * c : tf_.ambient * lighting_.ambient;
+  const Color lit = ambient + tf_.diffuse * diffuse * c + tf_.specular * specular;
   return glm::clamp(lit, Color(0.0f), Color(1.0f));
 }
 

@@ -38,6 +38,9 @@ class VolumeShader {
   Vec3f toEye_;            ///< Unit vector back along the ray.
   Fixed fixed_[kFixed];
   std::size_t fixedCount_ = 0;
+  /// Lights [0, fixedUpTo_) that are not positional (or all, along rays) are in fixed_; the others are lit per
+  /// sample.
+  std::size_t fixedUpTo_ = 0;
   bool allFixed_ = true;   ///< Every light is in fixed_.
 };
 

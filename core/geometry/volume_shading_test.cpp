@@ -48,11 +48,14 @@ void prepare(Volume& v) {
 // The expected lit colour. With the grid's axes a0, a1 (unit) and spacings h0, h1, the scalar grows by slope / h0
 // per unit length along a0 and slope ySlope / h1 along a1, and not along a2: its gradient is the sum of those
 // (chain rule), here with ySlope 1
-Color expectedLit(const Volume& v, const Color& c, const Vec3& toLight, const Vec3& toEye, double att = 1.0) {
+// (along: the lone-headlight case, whose ambient term is ambient x C; otherwise ambient x the ambient light, 1)
+Color expectedLit(const Volume& v, const Color& c, const Vec3& toLight, const Vec3& toEye, double att = 1.0,
+                  bool along = false) {
   const Vec3 n = glm::normalize(v.grid.direction[0] / v.grid.spacing.x + v.grid.direction[1] / v.grid.spacing.y);
   const double nl = std::abs(glm::dot(n, toLight));
   const double nh = std::abs(glm::dot(n, glm::normalize(toLight + toEye)));
-  const Color lit = v.transfer.ambient * c + float(att * v.transfer.diffuse * nl) * c +
+  const Color ambient = along ? v.transfer.ambient * c : Color(v.transfer.ambient);
+  const Color lit = ambient + float(att * v.transfer.diffuse * nl) * c +
                     float(att * v.transfer.specular * std::pow(nh, double(v.transfer.specularPower))) * Color(1.0f);
   return glm::clamp(lit, Color(0.0f), Color(1.0f));
 }
@@ -112,7 +115,7 @@ TEST(VolumeShade, HeadlightAlongRaysPositionalAndSpotLights) {
   const VolumeShader along(v, ray, lighting, true);
   const Vec3f g(1.0f, 1.0f, 0.0f);  // the field's differences: the same along x and y
   const Vec3 toEye = -glm::normalize(ray.dir), x(0.0, 0.0, -5.0);
-  Color got = along.shade(g, x, c), expect = expectedLit(v, c, toEye, toEye);
+  Color got = along.shade(g, x, c), expect = expectedLit(v, c, toEye, toEye, 1.0, true);
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], expect[k], 1e-6);
   // Positional with VTK's attenuation and a spot cone: a point inside the cone and one outside
   lighting.alongRays = false;
@@ -130,7 +133,7 @@ TEST(VolumeShade, HeadlightAlongRaysPositionalAndSpotLights) {
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], expect[k], 1e-6);
   const Vec3 outside = x + Vec3(0.0, 4.0, 0.0);
   got = spot.shade(g, outside, c);
-  expect = v.transfer.ambient * c;  // out of the cone: ambient only
+  expect = Color(v.transfer.ambient);  // out of the cone: ambient only (the ambient light, not times C)
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], expect[k], 1e-6);
   // The ambient light colour scales the ambient term
   lighting.ambient = Color(0.0f);
@@ -155,10 +158,44 @@ TEST(VolumeShade, NoGradientMeansAmbientAndBadInputStaysFinite) {
   lighting.count = 1;
   const VolumeShader shader(v, ray, lighting, true);
   Color got = shader.shade(Vec3f(0.0f), Vec3(0.0), c);
-  for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], v.transfer.ambient * c[k], 1e-7);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], v.transfer.ambient, 1e-7);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   got = shader.shade(Vec3f(nan, 1.0f, 0.0f), Vec3(0.0), c);
-  for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], v.transfer.ambient * c[k], 1e-7);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], v.transfer.ambient, 1e-7);
+}
+
+TEST(VolumeShade, EveryLightCountsBeyondThoseSetUpPerSegment) {
+  // Twelve equal directional lights (more than the eight set up once per ray segment) light a sample twelve times
+  // as much as one (diffuse only, no ambient, no highlight)
+  const Color c(0.5f);
+  Volume v = linearField(0.5f, c, 0.2f);
+  v.transfer.ambient = 0.0f;
+  v.transfer.specular = 0.0f;
+  prepare(v);
+  Ray ray;
+  ray.dir = Vec3(0.0, 0.0, -1.0);
+  std::vector<VolumeLight> lights(12);
+  for (VolumeLight& l : lights) {
+    l.toLight = glm::normalize(Vec3(0.2, 0.5, 1.0));
+    l.radiance = Color(0.05f);
+  }
+  const Vec3f g(1.0f, 1.0f, 0.0f);
+  auto diffuse = [&](std::size_t n, bool positional) {
+    for (VolumeLight& l : lights) {
+      l.positional = positional;
+      l.position = Vec3(0.0) + 1e3 * l.toLight;  // far away: the same direction at x = 0
+    }
+    VolumeLighting lighting;
+    lighting.lights = lights.data();
+    lighting.count = n;
+    return VolumeShader(v, ray, lighting, true).shade(g, Vec3(0.0), c).r;
+  };
+  const float one = diffuse(1, false);
+  ASSERT_GT(one, 0.0f);
+  EXPECT_NEAR(diffuse(8, false), 8.0f * one, 1e-5f);
+  EXPECT_NEAR(diffuse(9, false), 9.0f * one, 1e-5f);
+  EXPECT_NEAR(diffuse(12, false), 12.0f * one, 1e-5f);
+  EXPECT_NEAR(diffuse(12, true), 12.0f * one, 1e-4f);  // positional, per sample (attenuation 1)
 }
 
 TEST(VolumeShade, GradientOpacityScalesAlphaByTheMagnitudePerMeanVoxel) {

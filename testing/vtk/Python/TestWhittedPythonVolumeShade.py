@@ -6,7 +6,9 @@ pass's image with VTK's image of the same renderer without the pass (the indepen
 pixels either covers, shadows and reflections off:
 - the renderer's own headlight (VTK 9.1 lights a lone headlight along each viewing ray): Shade with the defaults,
   then with a strong highlight (specular 0.6, power 30), within 1/255 (measured 0.05);
-- a vtkLightKit (ParaView's lights) and a user's scene light, diffuse only, within 1/255 (measured 0.05). With a
+- a vtkLightKit (ParaView's lights) and a user's scene light, diffuse only, within 1/255 (measured 0.07-0.08), and
+  the scene light with an ambient colour, ambient only (VTK 9.1 then adds ambient x the light's ambient colour, not
+  times the sample colour) within 1/255. With a
   highlight these differ more (kit 2.9/255, scene light 1.5/255, measured): VTK 9.1 keeps only the last light's
   highlight and takes the view direction from a mirrored position there, the tracer sums every light's highlight
   with the true view direction (checked against the formula in the core's VolumeShade tests);
@@ -75,10 +77,12 @@ def make_renderer(volume, lights="headlight", floor=False):
     ren.AddVolume(volume)
     if lights == "kit":
         vtkLightKit().AddLightsToRenderer(ren)
-    elif lights == "scene":
+    elif lights in ("scene", "scene-ambient"):
         light = vtkLight()
         light.SetPosition(1.0, 2.0, 1.0)
         light.SetFocalPoint(0.0, 0.0, 0.0)
+        if lights == "scene-ambient":
+            light.SetAmbientColor(0.8, 0.6, 0.4)
         ren.AddLight(light)
     if floor:  # a black mirror under the blob
         actor = quad_actor((-4.0, -1.0, 4.0), (4.0, -1.0, 4.0), (-4.0, -1.0, -4.0), (0.0, 0.0, 0.0), 1.0)
@@ -148,6 +152,13 @@ class TestWhittedPythonVolumeShade(Testing.vtkTest):
         self.agreement("headlight, specular 0.6 power 30", setup=highlight)
         self.agreement("light kit, diffuse", "kit", diffuse_only)
         self.agreement("scene light, diffuse", "scene", diffuse_only)
+
+        def ambient_only(prop):
+            prop.SetAmbient(0.5)
+            prop.SetDiffuse(0.0)
+            prop.SetSpecular(0.0)
+
+        self.agreement("scene light with an ambient colour, ambient", "scene-ambient", ambient_only)
         self.agreement("gradient opacity, shaded", setup=gradient_opacity)
         self.agreement("gradient opacity, Shade off", setup=gradient_opacity_unshaded)
 
