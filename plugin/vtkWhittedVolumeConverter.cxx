@@ -228,13 +228,38 @@ void CopyScalars(const T* data, std::size_t n, whitted::LargeVector<float>& out)
   }
 }
 
+// Sets g's dimensions and its placement in the world: the volume's matrix x (origin + D x
+// diag(spacing) x index)
+void Place(vtkImageData* image, const Mat4& matrix, whitted::VolumeGrid& g)
+{
+  image->GetDimensions(g.dims);
+  const Mat3 linear(matrix);
+  const double* d = image->GetDirectionMatrix()->GetData(); // row-major 3x3
+  Mat3 dir;
+  for (int r = 0; r < 3; ++r)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      dir[c][r] = d[3 * r + c];
+    }
+  }
+  // The grid's first point: index (extent minimum), not the origin (index 0)
+  const int* extent = image->GetExtent();
+  const double* s = image->GetSpacing();
+  const Vec3 first = Vec3(image->GetOrigin()[0], image->GetOrigin()[1], image->GetOrigin()[2]) +
+    dir * Vec3(s[0] * extent[0], s[1] * extent[2], s[2] * extent[4]);
+  g.origin = Vec3(matrix * whitted::Vec4(first, 1.0));
+  g.direction = linear * dir;
+  g.spacing = Vec3(s[0], s[1], s[2]);
+}
+
 // The grid of image's scalars array, placed by matrix; the scalars are written into reuse's memory
 // when it has their size (a new time step of the same grid: no allocation, no page faults)
 whitted::VolumeGrid Grid(
-  vtkImageData* image, vtkDataArray* array, const Mat4& matrix, whitted::LargeVector<float> reuse = {})
+  vtkImageData* image, vtkDataArray* array, const Mat4& matrix, whitted::LargeVector<float> reuse)
 {
   whitted::VolumeGrid g;
-  image->GetDimensions(g.dims);
+  Place(image, matrix, g);
   const std::size_t n = static_cast<std::size_t>(image->GetNumberOfPoints());
   if (reuse.size() == n)
   {
@@ -260,25 +285,6 @@ whitted::VolumeGrid Grid(
       g.scalars[i] = static_cast<float>(array->GetComponent(static_cast<vtkIdType>(i), 0));
     }
   }
-  // World: matrix x (origin + D x diag(spacing) x index)
-  const Mat3 linear(matrix);
-  const double* d = image->GetDirectionMatrix()->GetData(); // row-major 3x3
-  Mat3 dir;
-  for (int r = 0; r < 3; ++r)
-  {
-    for (int c = 0; c < 3; ++c)
-    {
-      dir[c][r] = d[3 * r + c];
-    }
-  }
-  // The grid's first point: index (extent minimum), not the origin (index 0)
-  const int* extent = image->GetExtent();
-  const double* s = image->GetSpacing();
-  const Vec3 first = Vec3(image->GetOrigin()[0], image->GetOrigin()[1], image->GetOrigin()[2]) +
-    dir * Vec3(s[0] * extent[0], s[1] * extent[2], s[2] * extent[4]);
-  g.origin = Vec3(matrix * whitted::Vec4(first, 1.0));
-  g.direction = linear * dir;
-  g.spacing = Vec3(s[0], s[1], s[2]);
   return g;
 }
 
@@ -492,20 +498,19 @@ vtkWhittedVolumeConverter::Verdict vtkWhittedVolumeConverter::Convert(
   if (newData || newGeometry)
   {
     whitted::Volume v;
-    if (newData)
+    // The traced grid's scalars when they have this grid's size: kept when only the placement
+    // changed, else written over by the new ones (the next time step; allocating and zeroing a
+    // fresh 64 MB grid took 23-450 ms here, page faults and all, against 30 ms for the copy)
+    const std::size_t points = static_cast<std::size_t>(image->GetNumberOfPoints());
+    whitted::LargeVector<float> traced;
+    if (e.InScene && this->Scene.volume(e.Id).grid.scalars.size() == points)
+    {
+      traced = this->Scene.releaseVolumeScalars(e.Id);
+    }
+    if (newData || traced.size() != points)
     {
       ++converted;
-      // A grid of the same size replaces the traced one (the next time step): written over its
-      // memory. Allocating and zeroing a fresh 64 MB grid took 23-450 ms here, page faults and
-      // all, against 30 ms for the copy itself
-      whitted::LargeVector<float> reuse;
-      if (e.InScene &&
-        this->Scene.volume(e.Id).grid.scalars.size() ==
-          static_cast<std::size_t>(image->GetNumberOfPoints()))
-      {
-        reuse = this->Scene.releaseVolumeScalars(e.Id);
-      }
-      v.grid = Grid(image, array, matrix, std::move(reuse));
+      v.grid = Grid(image, array, matrix, std::move(traced));
       std::size_t invalid = 0;
       for (float s : v.grid.scalars)
       {
@@ -528,11 +533,8 @@ vtkWhittedVolumeConverter::Verdict vtkWhittedVolumeConverter::Convert(
     }
     else
     {
-      v.grid = this->Scene.volume(e.Id).grid; // a copy: only the placement changed
-      const whitted::VolumeGrid placed = Grid(image, array, matrix);
-      v.grid.origin = placed.origin;
-      v.grid.direction = placed.direction;
-      v.grid.spacing = placed.spacing;
+      v.grid.scalars = std::move(traced); // only the placement changed
+      Place(image, matrix, v.grid);
     }
     v.transfer = Transfer(p, e.Range);
     v.interpolation =

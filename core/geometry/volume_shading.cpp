@@ -12,7 +12,6 @@ VolumeShader::VolumeShader(const Volume& v, const Ray& ray, const VolumeLighting
       lighting_(lighting),
       shade_(v.transfer.shade && emission),
       gradientOpacity_(!v.transfer.gradientOpacity.empty() && v.transfer.gradientOpacityMax > 0.0) {
-  active_ = shade_ || gradientOpacity_;
   // A world vector w has index coordinates toIndex w, so the scalar's world gradient is toIndex^T times its
   // index-space gradient (single precision: only its direction is used, for 8-bit colours)
   toWorldGradient_ = glm::mat3(glm::transpose(v.toIndex()));
@@ -47,17 +46,14 @@ VolumeShader::VolumeShader(const Volume& v, const Ray& ray, const VolumeLighting
 
 float VolumeShader::opacityFactor(const Vec3f& g) const {
   if (!gradientOpacity_) return 1.0f;
-  const Vec3 gi(g);
-  {
-    // The function's table, interpolated linearly and clamped (VTK's 1D texture); a NaN magnitude: its first value
-    const double m = glm::length(gi * dataScale_) * goScale_;
-    const std::vector<float>& t = tf_.gradientOpacity;
-    const double last = double(t.size() - 1);
-    const double u = m > 0.0 ? std::min(m, last) : 0.0;
-    const std::size_t i = std::min(std::size_t(u), t.size() - 1);
-    const std::size_t j = std::min(i + 1, t.size() - 1);
-    return float(double(t[i]) + (u - double(i)) * (double(t[j]) - double(t[i])));
-  }
+  // The function's table, interpolated linearly and clamped (VTK's 1D texture); a NaN magnitude: its first value
+  const double m = glm::length(Vec3(g) * dataScale_) * goScale_;
+  const std::vector<float>& t = tf_.gradientOpacity;
+  const double last = double(t.size() - 1);
+  const double u = m > 0.0 ? std::min(m, last) : 0.0;
+  const std::size_t i = std::min(std::size_t(u), t.size() - 1);
+  const std::size_t j = std::min(i + 1, t.size() - 1);
+  return float(double(t[i]) + (u - double(i)) * (double(t[j]) - double(t[i])));
 }
 
 Color VolumeShader::shade(const Vec3f& g, const Vec3& x, const Color& c) const {

@@ -11,8 +11,6 @@ class VolumeShader {
  public:
   /// emission false (a shadow ray's transmittance): gradient opacity only.
   VolumeShader(const Volume& v, const Ray& ray, const VolumeLighting& lighting, bool emission);
-  /// Shading or gradient opacity is on (else the march reads no gradient).
-  bool active() const { return active_; }
   /// The gradient-opacity factor of a sample's alpha (1 without gradient opacity); g holds the scalar's central
   /// differences along the grid's index axes, s(p + o e_a) - s(p - o e_a), taken as over two points (as VTK's GPU
   /// mapper takes them, whose offset o is n / (n - 1) points).
@@ -31,7 +29,7 @@ class VolumeShader {
   static constexpr std::size_t kFixed = 8;  ///< Lights set up per ray segment; others per sample.
   const TransferFunction& tf_;
   const VolumeLighting& lighting_;
-  bool active_, shade_, gradientOpacity_;
+  bool shade_, gradientOpacity_;
   glm::mat3 toWorldGradient_;///< Index-space differences -> world-space gradient direction (toIndex transposed).
   Vec3 dataScale_;         ///< Index-space differences -> gradient in the grid's axes times the mean spacing, x 2.
   double goScale_;         ///< Gradient magnitude -> index into tf.gradientOpacity.

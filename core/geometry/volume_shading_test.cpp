@@ -88,7 +88,8 @@ TEST(VolumeShade, DirectionalLightLitsTheMarchByTheGradientDirection) {
   // (The index-space gradient (1, 1, 0) merely turned by the direction matrix would light it differently: spacing
   // matters)
   const Vec3 turned = glm::normalize(v.grid.direction * Vec3(1.0, 1.0, 0.0));
-  const Color wrong = v.transfer.ambient * c + float(v.transfer.diffuse * std::abs(glm::dot(turned, light.toLight))) * c;
+  const Color wrong =
+      Color(v.transfer.ambient) + float(v.transfer.diffuse * std::abs(glm::dot(turned, light.toLight))) * c;
   EXPECT_GT(std::abs(wrong.r - expectedLit(v, c, light.toLight, -ray.dir).r), 0.02f);
   // Without Shade the march adds the transfer colour
   v.transfer.shade = false;
