@@ -127,7 +127,8 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
       float gainPerRay = 0.0f, rays = 0.0f;
       uint8_t action = kKeep;
     };
-    auto choose = [&](std::size_t i) {
+    // sampleOnly: the pixel's sampling way only (a one-sample pixel's grid, which a round of singles must give)
+    auto choose = [&](std::size_t i, bool sampleOnly) {
       const PixelSums& ps = acc_[i];
       // The truncation bound scaled by the share of it that loosening changed so far at this level
       const float t = fb_.truncation[i] * share[std::size_t(ps.level + 1)], smp = fb_.sampling[i];
@@ -151,7 +152,7 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
         }
         c.gainPerRay = gain / c.rays;
       }
-      if (canLoosen(i)) {
+      if (canLoosen(i) && !sampleOnly) {
         // A looser level is taken to leave kLoosenLeaves of the truncation part
         const float rays = float(ps.n) * raysPerSample * loosenGrowth[std::size_t(ps.level + 1)];
         const float gain = t * t * (1.0f - kLoosenLeaves * kLoosenLeaves) / rays;
@@ -182,6 +183,9 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
     }
     // The pixels with the most gain per ray whose rays add up to the round's size: costs summed per priority
     // bucket (a quarter octave each), taken from the top bucket down
+    // The estimate is under the target but for the one-sample pixels: this round gives all of them (and only
+    // them) their grids (not a looser level, which leaves them one sample), whatever the round's size
+    const bool singlesOnly = s_.targetError > 0.0 && fs.calibrated.rms <= s_.targetError;
     const float least = float(kLeastEstimateShare * s_.targetError);
     std::vector<Choice> choices(acc_.size());
     std::vector<double> bucketRays(kBuckets, 0.0), bucketGain(kBuckets, 0.0);
@@ -195,7 +199,7 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
     for (std::size_t i = 0; i < acc_.size(); ++i) {
       if (!fb_.traced[i] || !(canSample(i) || canLoosen(i))) continue;
       if (!single(i) && (estimate(i) < least || estimate(i) <= 0.0f)) continue;
-      choices[i] = choose(i);
+      choices[i] = choose(i, singlesOnly && single(i));
       if (choices[i].action != kKeep && choices[i].gainPerRay > 0.0f) {
         const std::size_t b = std::size_t(bucketOf(choices[i].gainPerRay));
         bucketRays[b] += choices[i].rays;
@@ -219,9 +223,6 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
       sum += bucketRays[std::size_t(--cutBucket)];
       gain += bucketGain[std::size_t(cutBucket)];
     }
-    // The estimate is under the target but for the one-sample pixels: this round gives all of them (and only
-    // them) their grids, whatever the round's size
-    const bool singlesOnly = s_.targetError > 0.0 && fs.calibrated.rms <= s_.targetError;
     std::size_t marked = 0;
     for (std::size_t i = 0; i < acc_.size(); ++i) {
       const Choice& c = choices[i];
