@@ -30,6 +30,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -217,17 +218,6 @@ std::string BadGrid(vtkImageData* image, vtkDataArray* array, const Mat4& matrix
   return std::string();
 }
 
-// The scalars as float, x fastest, written over out (resized only when its size differs)
-template <typename T>
-void CopyScalars(const T* data, std::size_t n, whitted::LargeVector<float>& out)
-{
-  out.resize(n);
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    out[i] = static_cast<float>(data[i]);
-  }
-}
-
 // Sets g's dimensions and its placement in the world: the volume's matrix x (origin + D x
 // diag(spacing) x index)
 void Place(vtkImageData* image, const Mat4& matrix, whitted::VolumeGrid& g)
@@ -256,7 +246,8 @@ void Place(vtkImageData* image, const Mat4& matrix, whitted::VolumeGrid& g)
 // The grid of image's scalars array, placed by matrix; the scalars are written into reuse's memory
 // when it has their size (a new time step of the same grid: no allocation, no page faults)
 whitted::VolumeGrid Grid(
-  vtkImageData* image, vtkDataArray* array, const Mat4& matrix, whitted::LargeVector<float> reuse)
+  vtkImageData* image, vtkDataArray* array, const Mat4& matrix, whitted::VolumeScalars reuse,
+  std::size_t& invalid)
 {
   whitted::VolumeGrid g;
   Place(image, matrix, g);
@@ -271,7 +262,8 @@ whitted::VolumeGrid Grid(
     switch (array->GetDataType())
     {
       vtkTemplateMacro(
-        CopyScalars(static_cast<const VTK_TT*>(array->GetVoidPointer(0)), n, g.scalars);
+        invalid = whitted::VolumeGrid::convertScalars(
+          static_cast<const VTK_TT*>(array->GetVoidPointer(0)), n, g.scalars);
         copied = true);
       default:
         break;
@@ -280,9 +272,11 @@ whitted::VolumeGrid Grid(
   if (!copied)
   {
     g.scalars.resize(n);
+    invalid = 0;
     for (std::size_t i = 0; i < n; ++i)
     {
       g.scalars[i] = static_cast<float>(array->GetComponent(static_cast<vtkIdType>(i), 0));
+      invalid += std::isfinite(g.scalars[i]) ? 0 : 1;
     }
   }
   return g;
@@ -502,7 +496,7 @@ vtkWhittedVolumeConverter::Verdict vtkWhittedVolumeConverter::Convert(
     // changed, else written over by the new ones (the next time step; allocating and zeroing a
     // fresh 64 MB grid took 23-450 ms here, page faults and all, against 30 ms for the copy)
     const std::size_t points = static_cast<std::size_t>(image->GetNumberOfPoints());
-    whitted::LargeVector<float> traced;
+    whitted::VolumeScalars traced;
     if (e.InScene && this->Scene.volume(e.Id).grid.scalars.size() == points)
     {
       traced = this->Scene.releaseVolumeScalars(e.Id);
@@ -510,11 +504,19 @@ vtkWhittedVolumeConverter::Verdict vtkWhittedVolumeConverter::Convert(
     if (newData || traced.size() != points)
     {
       ++converted;
-      v.grid = Grid(image, array, matrix, std::move(traced));
       std::size_t invalid = 0;
-      for (float s : v.grid.scalars)
+      try
       {
-        invalid += std::isfinite(s) ? 0 : 1;
+        v.grid = Grid(image, array, matrix, std::move(traced), invalid);
+      }
+      catch (const std::bad_alloc&)
+      {
+        // The rest of the scene is traced; OpenGL draws this volume from VTK's own copy
+        const double mib = double(points) * sizeof(float) / (1024.0 * 1024.0);
+        return notTraced(vtkWhittedWarnings::VolumeOpenGL,
+          "not enough memory for the traced copy of its scalars (" + std::to_string(int64_t(mib + 0.5)) +
+            " MiB as float)",
+          OpenGL);
       }
       if (e.Resampled.Image)
       {

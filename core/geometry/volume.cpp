@@ -2,6 +2,8 @@
 // and the sampling: volume_sampling.cpp).
 #include "geometry/volume.h"
 
+#include "util/parallel.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -10,6 +12,9 @@
 namespace whitted {
 
 namespace {
+
+/// Scalars per piece of the passes over a grid (fixed: the counts do not depend on the thread count).
+constexpr std::size_t kScalarPiece = std::size_t(1) << 20;
 
 // The segment of a piecewise-linear function's nodes around s: index of the left node and the weight of the right
 template <typename X>
@@ -112,12 +117,23 @@ std::string Volume::prepare(std::size_t& invalidScalars) {
       transfer.gradientOpacity.size() < 2)
     transfer.gradientOpacity.clear();
 
-  // Non-finite scalars: NaN, which sampling reads as transparent
-  for (float& s : grid.scalars)
-    if (!std::isfinite(s)) {
-      s = std::numeric_limits<float>::quiet_NaN();
-      ++invalidScalars;
-    }
+  // Non-finite scalars: NaN, which sampling reads as transparent (on all cores for a large grid, in fixed pieces)
+  {
+    const std::size_t count = grid.scalars.size(), pieces = (count + kScalarPiece - 1) / kScalarPiece;
+    std::vector<std::size_t> invalid(pieces, 0);
+    WorkerPool pool(count >= 4 * kScalarPiece ? hardwareThreads() : 1);
+    float* sc = grid.scalars.data();
+    forChunks(pool, count, kScalarPiece, [&](std::size_t b, std::size_t e) {
+      std::size_t bad = 0;
+      for (std::size_t i = b; i < e; ++i)
+        if (!std::isfinite(sc[i])) {
+          sc[i] = std::numeric_limits<float>::quiet_NaN();
+          ++bad;
+        }
+      invalid[b / kScalarPiece] = bad;
+    });
+    for (std::size_t k : invalid) invalidScalars += k;
+  }
 
   // World bounds: the eight corners of the point box
   bounds_ = Bounds3();
@@ -158,7 +174,10 @@ void Volume::buildMacroCells() {
     macroMin_.assign(cells, std::numeric_limits<float>::infinity());
     macroMax_.assign(cells, -std::numeric_limits<float>::infinity());
     const float* sc = grid.scalars.data();
-    for (int cz = 0; cz < macroDims_[2]; ++cz)
+    // One job per slab of cells (each writes its own cells)
+    WorkerPool pool(grid.scalars.size() >= 4 * kScalarPiece ? hardwareThreads() : 1);
+    pool.run(uint32_t(macroDims_[2]), [&](uint32_t slab) {
+      const int cz = int(slab);
       for (int cy = 0; cy < macroDims_[1]; ++cy)
         for (int cx = 0; cx < macroDims_[0]; ++cx) {
           float lo = std::numeric_limits<float>::infinity(), hi = -lo;
@@ -177,6 +196,7 @@ void Volume::buildMacroCells() {
           macroMin_[c] = nan ? std::numeric_limits<float>::quiet_NaN() : lo;
           macroMax_[c] = hi;
         }
+    });
   }
   // Empty: no sample inside can have an opacity above 0 (NaN points are sampled, and counted). A constant cell's
   // samples are that constant exactly (a + f (b - a) with a = b): the lookup the march would make decides. Else every

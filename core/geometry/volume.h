@@ -7,7 +7,9 @@
 
 #include "util/math.h"
 #include "util/memory.h"
+#include "util/parallel.h"
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -68,6 +70,9 @@ struct VolumeLighting {
   bool alongRays = false;
 };
 
+/// A grid's scalars: resize() leaves them uninitialised (they are written in full right after; util/memory.h).
+using VolumeScalars = UninitLargeVector<float>;
+
 /// One-component point scalars on a regular grid: the point (i, j, k) is at origin + direction * (spacing * (i, j, k))
 /// (vtkImageData's index-to-physical map; direction is a GLM matrix, its columns the grid axes). Scalars x fastest,
 /// stored as float (convert once with fromScalars).
@@ -76,7 +81,7 @@ struct VolumeGrid {
   Vec3 origin{0.0};
   Vec3 spacing{1.0};
   Mat3 direction{1.0};
-  LargeVector<float> scalars;  ///< (huge pages: a 256^3 grid in 32 page faults, not 16384: util/memory.h)
+  VolumeScalars scalars;  ///< (huge pages: a 256^3 grid in 32 page faults, not 16384: util/memory.h)
 
   /// A grid of data[nx * ny * nz] of any arithmetic type (float, double, integers), converted to float once.
   template <typename T>
@@ -87,9 +92,30 @@ struct VolumeGrid {
       g.dims[a] = dims[a];
       n *= std::size_t(dims[a] > 0 ? dims[a] : 0);
     }
-    g.scalars.resize(n);
-    for (std::size_t i = 0; i < n; ++i) g.scalars[i] = float(data[i]);
+    convertScalars(data, n, g.scalars);
     return g;
+  }
+  /// data[0 .. n) as float into out (resized only when its size differs, and then not zeroed first); returns how
+  /// many are not finite. On all cores for a large grid, in fixed pieces (a fresh array's pages are first touched by
+  /// the threads that fill them: a 2 GiB 8-bit grid's zeroing pass on one thread had taken as long as the copy).
+  template <typename T>
+  static std::size_t convertScalars(const T* data, std::size_t n, VolumeScalars& out) {
+    constexpr std::size_t kPiece = std::size_t(1) << 20;
+    out.resize(n);
+    std::vector<std::size_t> invalid((n + kPiece - 1) / kPiece, 0);
+    WorkerPool pool(n >= 4 * kPiece ? hardwareThreads() : 1);
+    float* o = out.data();
+    forChunks(pool, n, kPiece, [&](std::size_t b, std::size_t e) {
+      std::size_t bad = 0;
+      for (std::size_t i = b; i < e; ++i) {
+        o[i] = float(data[i]);
+        bad += std::isfinite(o[i]) ? 0 : 1;
+      }
+      invalid[b / kPiece] = bad;
+    });
+    std::size_t total = 0;
+    for (std::size_t k : invalid) total += k;
+    return total;
   }
   std::size_t memoryBytes() const { return scalars.capacity() * sizeof(float); }
 };

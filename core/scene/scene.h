@@ -242,7 +242,7 @@ class Scene {
   /// Moves volume id's scalars out (its grid is left empty, and the volume is skipped until setVolume replaces it):
   /// a caller converting a new grid of the same size (the next step of a time series) can write into memory that
   /// is already mapped instead of allocating and zeroing the grid again.
-  LargeVector<float> releaseVolumeScalars(uint32_t id);
+  VolumeScalars releaseVolumeScalars(uint32_t id);
   /// Why volume id is not traced (empty if it is, or before the commit that prepares it).
   const std::string& volumeError(uint32_t id) const { return volumes_[id].error; }
   /// Emission-absorption along ray over (ray.tMin, tEnd) through every traced volume, front to back into acc (see

@@ -17,9 +17,9 @@ void Scene::setVolume(uint32_t id, Volume v) {
   sv.volume = std::move(v);
 }
 
-LargeVector<float> Scene::releaseVolumeScalars(uint32_t id) {
+VolumeScalars Scene::releaseVolumeScalars(uint32_t id) {
   SceneVolume& sv = volumes_[id];
-  LargeVector<float> scalars = std::move(sv.volume.grid.scalars);
+  VolumeScalars scalars = std::move(sv.volume.grid.scalars);
   sv.volume.grid.scalars.clear();
   sv.dirty = true;  // (prepare then finds the grid empty and skips it, unless setVolume comes first)
   return scalars;
@@ -40,7 +40,7 @@ void Scene::removeVolume(uint32_t id) {
   volumes_[id] = SceneVolume{};
   volumes_[id].alive = false;
   volumes_[id].dirty = false;
-  volumes_[id].volume.grid.scalars = LargeVector<float>();
+  volumes_[id].volume.grid.scalars = VolumeScalars();
   topDirty_ = true;
 }
 

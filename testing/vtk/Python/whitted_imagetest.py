@@ -252,3 +252,48 @@ def check_against_raster(test, name, window, render_pass, excluded=(), min_shado
             np.save(os.path.join(Testing.VTK_TEMP_DIR, "%s_%s.npy" % (name, label)), img)
     for label, value, op, limit in conditions:
         test.assertTrue(holds[op](value, limit), "raster %s: %s %g, required %s %g" % (name, label, value, op, limit))
+
+
+def ramp_volume(image, top_opacity, sample_distance=None, unit_distance=1.0):
+    """A vtkVolume of image (8-bit scalars 0..200) through vtkGPUVolumeRayCastMapper: blue to orange, opacity 0 to
+    top_opacity, trilinear; the mapper's sample distance fixed when given."""
+    from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
+    from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolume, vtkVolumeProperty
+    import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401
+    from vtkmodules.vtkRenderingVolume import vtkGPUVolumeRayCastMapper
+    mapper = vtkGPUVolumeRayCastMapper()
+    mapper.SetInputData(image)
+    if sample_distance:
+        mapper.AutoAdjustSampleDistancesOff()
+        mapper.SetSampleDistance(sample_distance)
+    color = vtkColorTransferFunction()
+    color.AddRGBPoint(0, 0.0, 0.1, 1.0)
+    color.AddRGBPoint(200, 1.0, 0.6, 0.1)
+    opacity = vtkPiecewiseFunction()
+    opacity.AddPoint(0, 0.0)
+    opacity.AddPoint(200, top_opacity)
+    prop = vtkVolumeProperty()
+    prop.SetColor(color)
+    prop.SetScalarOpacity(opacity)
+    prop.SetInterpolationTypeToLinear()
+    prop.SetScalarOpacityUnitDistance(unit_distance)
+    volume = vtkVolume()
+    volume.SetMapper(mapper)
+    volume.SetProperty(prop)
+    return volume
+
+
+def sphere_actor(center, radius):
+    """An actor of a 32 x 32 vtkSphereSource."""
+    from vtkmodules.vtkFiltersSources import vtkSphereSource
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
+    sphere = vtkSphereSource()
+    sphere.SetCenter(*center)
+    sphere.SetRadius(radius)
+    sphere.SetThetaResolution(32)
+    sphere.SetPhiResolution(32)
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputConnection(sphere.GetOutputPort())
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    return actor
