@@ -6,7 +6,7 @@
 // after every call the image is measured against the truth (largest channel per pixel, RMS over pixels). Per
 // target: met, the reported calibrated RMS and the bound's RMS at the stop, the measured RMS there, their ratio,
 // samples per pixel, the tracing seconds to the stop, and the oracle seconds (the first call of the same refinement
-// whose image measured under the target). --max-seconds stops a refinement between calls (no TimeBudget: a
+// whose image measured under the target); --frames-csv FILE writes every call's row. --max-seconds stops a refinement between calls (no TimeBudget: a
 // resumed call with a budget plans its round from that call's own rate, which the progressive display fix
 // addresses).
 #include "bench_commands.h"
@@ -68,6 +68,10 @@ int cmdTarget(const Args& a) {
   CsvWriter csv(a.str("csv"), {"scene", "width", "height", "target", "met", "measured_below", "reported_rms",
                                "bound_rms", "measured_rms", "ratio", "spp", "seconds", "oracle_seconds", "rounds",
                                "calls"});
+  // --frames-csv: one row per call of each refinement (the estimate against the measured error at every frame a
+  // progressive display shows, not only at the stop)
+  CsvWriter frames(a.str("frames-csv"), {"scene", "target", "call", "seconds", "rounds", "spp", "reported_rms",
+                                         "measured_rms", "ratio", "finished"});
   // --fixed N,N,...: fixed stratified sample counts, at the default depth and threshold and untruncated (depth
   // 16, threshold 0), with both estimates against the truth (the calibration without refinement)
   for (double spp : a.has("fixed") ? parseList(a.str("fixed")) : std::vector<double>{})
@@ -100,6 +104,9 @@ int cmdTarget(const Args& a) {
       ++calls;
       measured = compareImages(fb, truth).maxChannelRms;
       if (oracle < 0.0 && measured <= target) oracle = keep.seconds;
+      frames.row({bs.name, fmt(target), fmt(calls), fmt(keep.seconds), fmt(fs.refinementRounds),
+                  fmt(double(keep.samples) / double(w * h)), fmt(fs.calibrated.rms), fmt(measured),
+                  fmt(measured > 0.0 ? fs.calibrated.rms / measured : 0.0), fmt(int(fs.refinementFinished))});
       if (a.has("verbose"))
         std::printf("  call %d: %.3f s, %d rounds, estimate %.4f, measured %.4f, finished %d\n", calls, keep.seconds,
                     fs.refinementRounds, fs.calibrated.rms, measured, int(fs.refinementFinished));
