@@ -4,7 +4,7 @@
 
 The shared scene at 200x150 with Refinement Rounds Per Render 1; each case renders again while
 RefinementUnfinished is 1 (at most a fixed number of renders):
-  A. Target Error (0.3 x the first pass's estimate) and a Time Budget of 3600 s: each Render() runs one more round
+  A. Target Error (0.15 x the first pass's estimate) and a Time Budget of 3600 s: each Render() runs one more round
      (LastRefinementRounds 1, 2, 3, ...) and adds samples (or traces the same ones at a looser depth where the
      truncation bound dominates), RefinementUnfinished stays 1 until the render that meets
      the target, then 0; the renders reach the same rounds and samples as without a budget (a budget that is not
@@ -97,7 +97,7 @@ Render(view)
 first = info("LastEstimatedError")[0]
 pixels = 200 * 150
 check(info("LastNumberOfSamples") == pixels, "first pass: 1 sample per pixel, estimate %.4f" % first)
-target = 0.3 * first
+target = 0.15 * first
 
 # A. Target and budget
 reference = progressive(target, 0.0, 60)
