@@ -503,11 +503,11 @@ vtkWhittedVolumeConverter::Verdict vtkWhittedVolumeConverter::Convert(
     }
     if (newData || traced.size() != points)
     {
-      ++converted;
       std::size_t invalid = 0;
       try
       {
         v.grid = Grid(image, array, matrix, std::move(traced), invalid);
+        ++converted; // (a conversion that failed is not counted)
       }
       catch (const std::bad_alloc&)
       {
