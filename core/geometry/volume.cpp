@@ -13,9 +13,6 @@ namespace whitted {
 
 namespace {
 
-/// Scalars per piece of the passes over a grid (fixed: the counts do not depend on the thread count).
-constexpr std::size_t kScalarPiece = std::size_t(1) << 20;
-
 // The segment of a piecewise-linear function's nodes around s: index of the left node and the weight of the right
 template <typename X>
 void locate(const X& xs, float s, std::size_t& i, float& w) {
@@ -117,23 +114,13 @@ std::string Volume::prepare(std::size_t& invalidScalars) {
       transfer.gradientOpacity.size() < 2)
     transfer.gradientOpacity.clear();
 
-  // Non-finite scalars: NaN, which sampling reads as transparent (on all cores for a large grid, in fixed pieces)
-  {
-    const std::size_t count = grid.scalars.size(), pieces = (count + kScalarPiece - 1) / kScalarPiece;
-    std::vector<std::size_t> invalid(pieces, 0);
-    WorkerPool pool(count >= 4 * kScalarPiece ? hardwareThreads() : 1);
-    float* sc = grid.scalars.data();
-    forChunks(pool, count, kScalarPiece, [&](std::size_t b, std::size_t e) {
-      std::size_t bad = 0;
-      for (std::size_t i = b; i < e; ++i)
-        if (!std::isfinite(sc[i])) {
-          sc[i] = std::numeric_limits<float>::quiet_NaN();
-          ++bad;
-        }
-      invalid[b / kScalarPiece] = bad;
-    });
-    for (std::size_t k : invalid) invalidScalars += k;
-  }
+  // Non-finite scalars: NaN, which sampling reads as transparent (on all cores for a large grid)
+  float* sc = grid.scalars.data();
+  invalidScalars = VolumeGrid::countInPieces(grid.scalars.size(), [&](std::size_t i) {
+    if (std::isfinite(sc[i])) return false;
+    sc[i] = std::numeric_limits<float>::quiet_NaN();
+    return true;
+  });
 
   // World bounds: the eight corners of the point box
   bounds_ = Bounds3();
@@ -175,7 +162,7 @@ void Volume::buildMacroCells() {
     macroMax_.assign(cells, -std::numeric_limits<float>::infinity());
     const float* sc = grid.scalars.data();
     // One job per slab of cells (each writes its own cells)
-    WorkerPool pool(grid.scalars.size() >= 4 * kScalarPiece ? hardwareThreads() : 1);
+    WorkerPool pool(VolumeGrid::threadsFor(grid.scalars.size()));
     pool.run(uint32_t(macroDims_[2]), [&](uint32_t slab) {
       const int cz = int(slab);
       for (int cy = 0; cy < macroDims_[1]; ++cy)

@@ -96,25 +96,34 @@ struct VolumeGrid {
     return g;
   }
   /// data[0 .. n) as float into out (resized only when its size differs, and then not zeroed first); returns how
-  /// many are not finite. On all cores for a large grid, in fixed pieces (a fresh array's pages are first touched by
-  /// the threads that fill them: a 2 GiB 8-bit grid's zeroing pass on one thread had taken as long as the copy).
+  /// many are not finite. On all cores for a large grid (countInPieces: a fresh array's pages are first touched by
+  /// the threads that fill them; a 2 GiB 8-bit grid's zeroing pass on one thread had taken as long as the copy).
   template <typename T>
   static std::size_t convertScalars(const T* data, std::size_t n, VolumeScalars& out) {
-    constexpr std::size_t kPiece = std::size_t(1) << 20;
     out.resize(n);
-    std::vector<std::size_t> invalid((n + kPiece - 1) / kPiece, 0);
-    WorkerPool pool(n >= 4 * kPiece ? hardwareThreads() : 1);
     float* o = out.data();
+    return countInPieces(n, [&](std::size_t i) {
+      o[i] = float(data[i]);
+      return !std::isfinite(o[i]);
+    });
+  }
+  /// Scalars per piece of the passes over a grid. Fixed, so counts do not depend on the thread count.
+  static constexpr std::size_t kPiece = std::size_t(1) << 20;
+  /// Threads for a pass over n scalars: all cores from 4 pieces on, else the calling thread alone.
+  static int threadsFor(std::size_t n) { return n >= 4 * kPiece ? hardwareThreads() : 1; }
+  /// Calls visit(i) for every i in [0, n), in pieces of kPiece on threadsFor(n) threads; returns how many calls
+  /// returned true.
+  template <typename Visit>
+  static std::size_t countInPieces(std::size_t n, Visit&& visit) {
+    std::vector<std::size_t> counts((n + kPiece - 1) / kPiece, 0);
+    WorkerPool pool(threadsFor(n));
     forChunks(pool, n, kPiece, [&](std::size_t b, std::size_t e) {
-      std::size_t bad = 0;
-      for (std::size_t i = b; i < e; ++i) {
-        o[i] = float(data[i]);
-        bad += std::isfinite(o[i]) ? 0 : 1;
-      }
-      invalid[b / kPiece] = bad;
+      std::size_t k = 0;
+      for (std::size_t i = b; i < e; ++i) k += visit(i) ? 1 : 0;
+      counts[b / kPiece] = k;
     });
     std::size_t total = 0;
-    for (std::size_t k : invalid) total += k;
+    for (std::size_t k : counts) total += k;
     return total;
   }
   std::size_t memoryBytes() const { return scalars.capacity() * sizeof(float); }

@@ -15,7 +15,8 @@ using namespace whitted;
 namespace {
 
 // 61 x 47 x 53 points at 8-point macro cells, as many times more as the macro cell has more (not multiples of
-// it; finer: times more again), over the same box: a radial field, the distance from a point off the centre in units of the 8-point grid
+// it; finer: times more again), over the same box: a radial field, the distance from a point off the centre in
+// units of the 8-point grid
 Volume ball(VolumeInterpolation interp, double finer = 1.0) {
   const double f = finer * Volume::kMacroCell / 8.0;
   const int dims[3] = {int(60 * f) + 1, int(46 * f) + 1, int(52 * f) + 1};

@@ -472,9 +472,9 @@ bool buildNamed(const std::string& name, const std::vector<std::string>& dataDir
   }
   if (name == "wavelet256" || name == "wavelet64" || name == "wavelet256-shade" || name == "wavelet64-shade") {
     const bool shade = name.find("-shade") != std::string::npos;
-    buildWavelet(out, name.compare(0, 10, "wavelet256") == 0 ? 256 : 64, shade);
-    out.description = name.substr(7, name.compare(0, 10, "wavelet256") == 0 ? 3 : 2) +
-                      "^3 vtkRTAnalyticSource-like volume of vtk_volume_bench.py, effects off" +
+    const int n = name.compare(0, 10, "wavelet256") == 0 ? 256 : 64;
+    buildWavelet(out, n, shade);
+    out.description = std::to_string(n) + "^3 vtkRTAnalyticSource-like volume of vtk_volume_bench.py, effects off" +
                       (shade ? ", Shade on" : "");
     return true;
   }

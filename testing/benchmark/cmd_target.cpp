@@ -6,9 +6,9 @@
 // after every call the image is measured against the truth (largest channel per pixel, RMS over pixels). Per
 // target: met, the reported calibrated RMS and the bound's RMS at the stop, the measured RMS there, their ratio,
 // samples per pixel, the tracing seconds to the stop, and the oracle seconds (the first call of the same refinement
-// whose image measured under the target); --frames-csv FILE writes every call's row. --max-seconds stops a refinement between calls (no TimeBudget: a
-// resumed call with a budget plans its round from that call's own rate, which the progressive display fix
-// addresses).
+// whose image measured under the target); --frames-csv FILE writes every call's row. --max-seconds stops a
+// refinement between calls (no TimeBudget: a resumed call with a budget plans its round from that call's own rate,
+// which the progressive display fix addresses).
 #include "bench_commands.h"
 #include "image_metrics.h"
 

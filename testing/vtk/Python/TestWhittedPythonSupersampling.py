@@ -17,11 +17,11 @@ import sys
 
 import numpy as np
 from vtkmodules.vtkCommonCore import vtkFloatArray
-from vtkmodules.vtkFiltersSources import vtkPlaneSource, vtkSphereSource
+from vtkmodules.vtkFiltersSources import vtkPlaneSource
 from vtkmodules.vtkRenderingCore import vtkActor, vtkLight, vtkPolyDataMapper, vtkRenderer
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from whitted import vtkWhittedMaterialKeys, vtkWhittedPass
-from whitted_imagetest import offscreen_render
+from whitted_imagetest import offscreen_render, sphere_actor
 
 LIGHT_BLUE = (0.55, 0.75, 0.95)
 PARAVIEW_BG = (0.32, 0.34, 0.43)
@@ -34,16 +34,8 @@ def check(condition, message):
         failures.append(message)
 
 
-def sphere_actor(ren, center, radius, color, opacity=1.0, kr=None, kt=None, ior=None):
-    source = vtkSphereSource()
-    source.SetCenter(*center)
-    source.SetRadius(radius)
-    source.SetThetaResolution(48)
-    source.SetPhiResolution(24)
-    mapper = vtkPolyDataMapper()
-    mapper.SetInputConnection(source.GetOutputPort())
-    actor = vtkActor()
-    actor.SetMapper(mapper)
+def material_sphere(ren, center, radius, color, opacity=1.0, kr=None, kt=None, ior=None):
+    actor = sphere_actor(center, radius, 48, 24)
     p = actor.GetProperty()
     p.SetColor(*color)
     p.SetOpacity(opacity)
@@ -66,10 +58,10 @@ def spheres_scene(background, gradient_top=None):
     if gradient_top:
         ren.SetBackground2(*gradient_top)
         ren.GradientBackgroundOn()
-    sphere_actor(ren, (-1.1, 0.55, 0), 0.5, (0.9, 0.9, 1.0), opacity=0.3, ior=1.4)  # glass: kt = 1 - opacity
-    sphere_actor(ren, (0.0, 0.55, 0), 0.5, (0.8, 0.8, 0.8), kr=0.7)  # mirror
-    sphere_actor(ren, (1.1, 0.55, 0), 0.5, (0.2, 0.8, 0.3), opacity=0.4)  # translucent, IOR 1
-    sphere_actor(ren, (0.0, -0.55, 0), 0.5, (0.9, 0.4, 0.2))  # opaque
+    material_sphere(ren, (-1.1, 0.55, 0), 0.5, (0.9, 0.9, 1.0), opacity=0.3, ior=1.4)  # glass: kt = 1 - opacity
+    material_sphere(ren, (0.0, 0.55, 0), 0.5, (0.8, 0.8, 0.8), kr=0.7)  # mirror
+    material_sphere(ren, (1.1, 0.55, 0), 0.5, (0.2, 0.8, 0.3), opacity=0.4)  # translucent, IOR 1
+    material_sphere(ren, (0.0, -0.55, 0), 0.5, (0.9, 0.4, 0.2))  # opaque
     light = vtkLight()
     light.SetPosition(2, 3, 5)
     light.SetFocalPoint(0, 0, 0)
@@ -135,7 +127,7 @@ def translucent_scene(bottom, top):
     if top:
         ren.SetBackground2(*top)
         ren.GradientBackgroundOn()
-    sphere_actor(ren, (0.4, 0.0, -1.0), 0.8, (0.9, 0.5, 0.2))
+    material_sphere(ren, (0.4, 0.0, -1.0), 0.8, (0.9, 0.5, 0.2))
     plane = vtkPlaneSource()
     plane.SetOrigin(-1.2, -1.0, 0.2)
     plane.SetPoint1(1.0, -1.0, 0.2)

@@ -283,15 +283,15 @@ def ramp_volume(image, top_opacity, sample_distance=None, unit_distance=1.0):
     return volume
 
 
-def sphere_actor(center, radius):
-    """An actor of a 32 x 32 vtkSphereSource."""
+def sphere_actor(center, radius, theta=32, phi=32):
+    """An actor of a vtkSphereSource of theta x phi resolution."""
     from vtkmodules.vtkFiltersSources import vtkSphereSource
     from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
     sphere = vtkSphereSource()
     sphere.SetCenter(*center)
     sphere.SetRadius(radius)
-    sphere.SetThetaResolution(32)
-    sphere.SetPhiResolution(32)
+    sphere.SetThetaResolution(theta)
+    sphere.SetPhiResolution(phi)
     mapper = vtkPolyDataMapper()
     mapper.SetInputConnection(sphere.GetOutputPort())
     actor = vtkActor()
