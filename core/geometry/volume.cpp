@@ -140,6 +140,8 @@ std::string Volume::prepare(std::size_t& invalidScalars) {
   step_ = std::isfinite(sampleDistance) && sampleDistance > 0.0 ? sampleDistance : 0.5 * shortest;
   step_ = std::max(step_, diagonal / kMaxSteps);
   if (!(std::isfinite(step_) && step_ > 0.0)) return "volume: no usable step (grid extent not finite)";
+  finestScale_ = 0;
+  while (finestScale_ > -30 && std::ldexp(step_, finestScale_ - 1) >= diagonal / (2.0 * kMaxSteps)) --finestScale_;
   buildTable();
   buildMacroCells();
   ready_ = true;

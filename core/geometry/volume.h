@@ -138,6 +138,14 @@ struct VolumeMarch {
   uint64_t invalidSamples = 0;    ///< Samples that read a non-finite scalar (taken as transparent).
 };
 
+/// How a ray marches the volumes it crosses: at step() x 2^scale (Volume::march's stepScale: 0 the volume's own
+/// step, -1, -2, ... the looser levels of progressive refinement), and, where error is given, with the step
+/// truncation's estimate added to *error (the march again at twice that step; the difference of the two results).
+struct VolumeStep {
+  int scale = 0;
+  float* error = nullptr;
+};
+
 struct Volume {
   VolumeGrid grid;
   TransferFunction transfer;
@@ -183,9 +191,14 @@ struct Volume {
   /// 1 - (1 - opacity)^(length / unitDistance), colour added as acc.transmittance x alpha x colour (emission false:
   /// transmittance only). Stops once acc.transmittance < stopBelow (acc.terminated).
   /// With transfer.shade, each sample's colour is lit by lighting (none: ambient only); gradient opacity
-  /// (transfer.gradientOpacity) scales each alpha.
+  /// (transfer.gradientOpacity) scales each alpha. stepScale marches at step() x 2^stepScale instead (the step
+  /// truncation's estimate marches at +1, progressive refinement's looser levels at -1, -2, ...: each full step's
+  /// alpha from the table's by 1 - (1 - a)^(2^stepScale)), at most as fine as twice kMaxSteps over the grid's
+  /// diagonal (a finer scale is taken as that one).
   void march(const Ray& ray, double t0, double t1, bool emission, float stopBelow, VolumeMarch& acc,
-             const VolumeLighting& lighting = VolumeLighting()) const;
+             const VolumeLighting& lighting = VolumeLighting(), int stepScale = 0) const;
+  /// The finest stepScale march() takes for this volume (after prepare): 0 or below.
+  int finestStepScale() const { return finestScale_; }
   const Mat3& toIndex() const { return toIndex_; }  ///< World vector -> index-space vector (after prepare).
 
  private:
@@ -193,6 +206,7 @@ struct Volume {
   Bounds3 bounds_;
   Mat3 toIndex_{1.0};  ///< World vector -> index-space vector.
   double step_ = 1.0;
+  int finestScale_ = 0;  ///< The least stepScale whose step is at least the diagonal / (2 kMaxSteps).
   struct Entry {
     Color color;
     float opacity;
@@ -215,14 +229,15 @@ struct Volume {
   int rangesDims_[3] = {0, 0, 0};
   std::vector<uint8_t> macroEmpty_;
   void buildMacroCells();
-  struct CellLook;  ///< The march's macro-cell look-ups (volume_sampling.cpp)
+  struct CellLook;  ///< The march's macro-cell look-ups (volume_cells.h)
   void buildTable();
   Entry lookup(float s) const;
   struct Sampler;  ///< The march's per-sample constants and reads (volume_sampling.cpp)
   /// march(): Shaded reads each sample's gradient for shader (shading, gradient opacity; else nullptr).
-  template <bool Shaded>
+  /// Scaled: stepScale != 0, each full step's alpha from the table's (scaledAlpha).
+  template <bool Shaded, bool Scaled>
   void marchWith(const Ray& ray, double t0, double t1, bool emission, float stopBelow, VolumeMarch& acc,
-                 const class VolumeShader* shader) const;
+                 const class VolumeShader* shader, int stepScale) const;
 };
 
 }  // namespace whitted

@@ -71,3 +71,37 @@ TEST(VolumeStep, TransmittanceConvergesToTheIntegralAsTheStepShrinks) {
   }
   EXPECT_LT(error.back(), 2e-5);
 }
+
+// A march at stepScale s (progressive refinement's finer levels, the step estimate's coarser one) is the march of the
+// same volume whose step is 2^s times as long: each full step's alpha from the table's by squaring or square roots
+// agrees with the table built for that step to float rounding; the sample count follows the step. A step already
+// at the finest the march takes (the diagonal / kMaxSteps) is not made finer than twice that.
+TEST(VolumeStep, ScaledStepIsTheMarchAtThatStep) {
+  const Vec3 d(1.0, 0.1, 0.05);
+  Ray ray;
+  ray.origin = Vec3(-1.0, 0.4, 1.2);
+  ray.dir = d;
+  const Volume v = ramp(1.0);
+  for (int scale : {1, -1, -2, -3}) {
+    const Volume at = ramp(std::ldexp(1.0, scale));
+    double t0 = 0.0, t1 = 1e30;
+    ASSERT_TRUE(v.clip(ray, t0, t1));
+    VolumeMarch a, b;
+    v.march(ray, t0, t1, true, 0.0f, a, VolumeLighting(), scale);
+    at.march(ray, t0, t1, true, 0.0f, b);
+    EXPECT_EQ(a.samples, b.samples) << scale;
+    EXPECT_NEAR(a.transmittance, b.transmittance, 2e-6) << scale;
+    EXPECT_NEAR(a.color.r, b.color.r, 2e-6) << scale;
+  }
+  EXPECT_EQ(v.finestStepScale(), -10);  // 2^-10 >= 32.5 / 40000 > 2^-11 (the diagonal of 32 x 4 x 4 voxels)
+  // The finest step: a sample distance below the diagonal / kMaxSteps is raised to it, and halved once at most
+  const Volume finest = ramp(1e-9);
+  EXPECT_EQ(finest.finestStepScale(), -1);
+  double t0 = 0.0, t1 = 1e30;
+  ASSERT_TRUE(finest.clip(ray, t0, t1));
+  VolumeMarch a, b;
+  finest.march(ray, t0, t1, false, 0.0f, a, VolumeLighting(), -3);
+  finest.march(ray, t0, t1, false, 0.0f, b, VolumeLighting(), -1);
+  EXPECT_EQ(a.samples, b.samples);
+  EXPECT_EQ(a.transmittance, b.transmittance);
+}

@@ -17,24 +17,25 @@ namespace whitted {
 namespace {
 
 // The integrator settings of a loosening level: maxDepth times kLoosenDepthFactor (at least + kLoosenDepthStep, at
-// most kLoosenMaxDepth) and the threshold divided by kLoosenThresholdDivisor per level
+// most kLoosenMaxDepth), the threshold divided by kLoosenThresholdDivisor and the volumes' step halved per level
 IntegratorSettings levelSettings(const IntegratorSettings& frame, int level) {
   IntegratorSettings is = frame;
   for (int k = 0; k < level; ++k) {
     is.maxDepth =
         std::min(kLoosenMaxDepth, std::max(kLoosenDepthFactor * is.maxDepth, is.maxDepth + kLoosenDepthStep));
     is.contributionThreshold /= kLoosenThresholdDivisor;
+    --is.volumeStepScale;
   }
   return is;
 }
 
 // The deepest level that still loosens anything (levels past kLoosenMaxDepth and a negligible threshold change
-// nothing)
-int loosestLevel(const IntegratorSettings& frame) {
+// nothing, unless the scene has volumes, whose step every level halves)
+int loosestLevel(const IntegratorSettings& frame, bool volumes) {
   int level = 0;
   while (level < kMaxLoosening) {
     const IntegratorSettings a = levelSettings(frame, level), b = levelSettings(frame, level + 1);
-    if (a.maxDepth == b.maxDepth && a.contributionThreshold < kNegligibleThreshold) break;
+    if (!volumes && a.maxDepth == b.maxDepth && a.contributionThreshold < kNegligibleThreshold) break;
     ++level;
   }
   return level;
@@ -70,7 +71,7 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
     marks_.assign(std::size_t(w_) * h_, 0);
   if (keep) keep->pending.clear();
   coarse_ = makeCoarse();
-  const int maxLevel = loosestLevel(s_.integrator);
+  const int maxLevel = loosestLevel(s_.integrator, scene_.features().volumes);
   // A pixel with one sample has no calibrated estimate (its neighbour rule cannot see a thin feature its centre
   // sample missed): the target is met only when every traced pixel has its grid (a sample minimum, as Cycles'),
   // and such pixels stay candidates whatever their estimate (kMinimumVariance)

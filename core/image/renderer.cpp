@@ -12,7 +12,10 @@ namespace {
 // The integrator settings of the frame: without error estimates (interactive frames) no bound rays are traced
 IntegratorSettings frameIntegratorSettings(const RenderSettings& s) {
   IntegratorSettings is = s.integrator;
-  if (!s.errorEstimates) is.truncationLookahead = 0;
+  if (!s.errorEstimates) {
+    is.truncationLookahead = 0;
+    is.volumeStepEstimate = false;
+  }
   return is;
 }
 

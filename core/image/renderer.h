@@ -22,7 +22,9 @@ struct FrameBuffer {
   std::vector<uint8_t> traced;  ///< 1 where this process traced the pixel (see RenderSettings::tileStride).
   /// Per-pixel error estimate, in the units of color clamped to [0, 1] (largest channel), 0 where not traced:
   /// - truncation: an upper bound on what the depth cap and the contribution threshold left out (against the
-  ///   image traced without threshold and at infinite depth, or see IntegratorSettings::truncationReferenceDepth);
+  ///   image traced without threshold and at infinite depth, or see IntegratorSettings::truncationReferenceDepth),
+  ///   plus, with IntegratorSettings::volumeStepEstimate, the estimate of the volumes' step error (an estimate,
+  ///   not a bound: volume_step_error_test.cpp measures how often it is under);
   /// - sampling: an estimate of the pixel's anti-aliasing error (see kSamplingConfidence).
   std::vector<float> truncation, sampling;
   /// The calibrated sampling estimate (an RMS estimate, not a bound; see kCalibratedConfidence): from the two
@@ -106,9 +108,10 @@ struct RenderSettings {
   /// coarse level -- contribution threshold x 16, at most 64/255, never below the frame's -- when its sampling
   /// estimate is over 4x its truncation part; any other pixel twice its samples at its level, continuing a
   /// low-discrepancy sequence, R2 rotated per pixel, after its stratified grid), or be traced again with its
-  /// samples at the next loosening level (maxDepth doubled, at least +2, up to 64; contribution threshold / 16; at
-  /// most kMaxLoosening levels). Each way's gain is the drop of the pixel's squared estimate (truncation part +
-  /// calibrated sampling estimate, FrameBuffer::samplingRms, in quadrature; a one-sample pixel's at least twice
+  /// samples at the next loosening level (maxDepth doubled, at least +2, up to 64; contribution threshold / 16;
+  /// the volumes' step halved; at most kMaxLoosening levels). Each way's gain is the drop of the pixel's squared
+  /// estimate (truncation part + calibrated sampling estimate, FrameBuffer::samplingRms, in quadrature; a
+  /// one-sample pixel's at least twice
   /// the target, see kMinimumVariance), its cost the rays it takes (the pixel's rays per sample so far; for a
   /// grid or a looser level times the growth measured on the pixels refined so far); the truncation part is the
   /// bound scaled by the share of it that loosening actually changed on the pixels loosened so far from that

@@ -66,10 +66,12 @@ std::string frameReport(const FrameStats& f, const SceneStats& s, const CommitSt
   out.append(buf, std::size_t(n));
   if (s.volumes > 0 || c.invalidVolumes > 0 || c.invalidVoxels > 0) {
     n = std::snprintf(buf, sizeof buf,
-                      "  volumes          %zu traced (%.2f MiB), %zu skipped as invalid; %llu samples, %llu rays "
-                      "terminated early; %zu non-finite scalars, %llu samples of them (transparent)\n",
+                      "  volumes          %zu traced (%.2f MiB), %zu skipped as invalid; %llu samples (+%llu for the "
+                      "step's error estimate), %llu rays terminated early; %zu non-finite scalars, %llu samples of "
+                      "them (transparent)\n",
                       s.volumes, s.volumeBytes / 1048576.0, c.invalidVolumes, (unsigned long long)f.rays.volumeSamples,
-                      (unsigned long long)f.rays.volumeTerminated, c.invalidVoxels,
+                      (unsigned long long)f.rays.volumeEstimateSamples, (unsigned long long)f.rays.volumeTerminated,
+                      c.invalidVoxels,
                       (unsigned long long)f.rays.volumeInvalidSamples);
     out.append(buf, std::size_t(n));
   }

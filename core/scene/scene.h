@@ -247,8 +247,9 @@ class Scene {
   const std::string& volumeError(uint32_t id) const { return volumes_[id].error; }
   /// Emission-absorption along ray over (ray.tMin, tEnd) through every traced volume, front to back into acc (see
   /// Volume::march; volumes are marched one after the other in the order they are entered, so overlapping volumes
-  /// are composited approximately). Stops once acc.transmittance < stopBelow.
-  void marchVolumes(const Ray& ray, double tEnd, bool emission, float stopBelow, VolumeMarch& acc) const;
+  /// are composited approximately). Stops once acc.transmittance < stopBelow. stepScale: Volume::march's.
+  void marchVolumes(const Ray& ray, double tEnd, bool emission, float stopBelow, VolumeMarch& acc,
+                    int stepScale = 0) const;
 
   // Commit and queries ------------------------------------------------------------------------------------
   /// Rebuilds dirty object BVHs and, if needed, the top-level BVH; detects features. Sanitises materials, lights
@@ -273,7 +274,11 @@ class Scene {
   /// through the joint of two tubes) counts once; boundary hits of one object closer than the sum of their
   /// rounding-error bounds (PrimHit::tError) are that one crossing. Stops early once below cutoff (returns zero;
   /// *cutByThreshold, if given, is then set: every channel of the true transmittance is below cutoff).
-  Color transmittance(const Ray& ray, float cutoff, uint64_t* nodes = nullptr, bool* cutByThreshold = nullptr) const;
+  /// Volumes on the ray multiply it by their transmittance, marched at step.scale (Volume::march's stepScale);
+  /// step.error, if given, gets the step truncation's estimate of the result (largest channel): the volumes
+  /// marched again at twice the step, the two transmittances' difference times the surfaces' product.
+  Color transmittance(const Ray& ray, float cutoff, uint64_t* nodes = nullptr, bool* cutByThreshold = nullptr,
+                      VolumeStep step = VolumeStep()) const;
 
   /// Shadow packet: the rays rays[i] of the bit mask active (at most four, e.g. the shadow rays of four camera
   /// hits toward one light) walk the BVHs together. Sets bit i of blocked when an opaque surface blocks ray i;

@@ -318,7 +318,8 @@ unsigned Scene::intersectPacket(const Ray* rays, unsigned active, Hit* hits, uin
   return top_.traverse4(rays, active, tMax, instancesInLeaf, nodes);
 }
 
-Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes, bool* cutByThreshold) const {
+Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes, bool* cutByThreshold,
+                           VolumeStep step) const {
   Color atten(1.0f);
   bool cut = false;
   CountedCrossings counted;
@@ -347,7 +348,12 @@ Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes, bool* 
   if (features_.volumes) {
     // Through the volumes on the ray (after the surfaces: most shadow rays end at an opaque one)
     VolumeMarch vm;
-    marchVolumes(ray, ray.tMax, false, 0.0f, vm);
+    marchVolumes(ray, ray.tMax, false, 0.0f, vm, step.scale);
+    if (step.error && vm.samples > 0) {
+      VolumeMarch coarse;
+      marchVolumes(ray, ray.tMax, false, 0.0f, coarse, step.scale + 1);
+      *step.error += maxComponent(atten) * std::abs(vm.transmittance - coarse.transmittance);
+    }
     atten *= vm.transmittance;
   }
   return atten;

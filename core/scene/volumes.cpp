@@ -91,7 +91,8 @@ void Scene::volumeStats(SceneStats& s) const {
   }
 }
 
-void Scene::marchVolumes(const Ray& ray, double tEnd, bool emission, float stopBelow, VolumeMarch& acc) const {
+void Scene::marchVolumes(const Ray& ray, double tEnd, bool emission, float stopBelow, VolumeMarch& acc,
+                         int stepScale) const {
   // The segments of the ray in each traced volume, marched in the order they are entered
   struct Segment {
     double t0, t1;
@@ -120,7 +121,7 @@ void Scene::marchVolumes(const Ray& ray, double tEnd, bool emission, float stopB
   lighting.lights = volumeLights_.data();
   lighting.count = volumeLights_.size();
   for (std::size_t i = 0; i < n && !acc.terminated; ++i)
-    seg[i].v->march(ray, seg[i].t0, seg[i].t1, emission, stopBelow, acc, lighting);
+    seg[i].v->march(ray, seg[i].t0, seg[i].t1, emission, stopBelow, acc, lighting, stepScale);
 }
 
 }  // namespace whitted

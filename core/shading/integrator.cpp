@@ -45,7 +45,7 @@ Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings, c
 struct Integrator::CollectShadows {
   static constexpr bool kCollect = true;
   FirstHit& fh;
-  Color operator()(int light, const Ray& sr, float, RayStats&, bool&) const {
+  Color operator()(int light, const Ray& sr, float, RayStats&, bool&, VolumeStep) const {
     if (light < kPacketLights) {
       fh.ray(light) = sr;
       fh.lights |= 1u << light;

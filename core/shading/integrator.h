@@ -88,6 +88,16 @@ struct IntegratorSettings {
   /// frame (iso60k, points100k, iso1m, tubes; data/benchmark/history.md), while in the classic scene, whose shadow
   /// rays go one by one, it measured 0.76-1.00x. Default on; off finds every first hit alone (tests, measurements).
   bool primaryPackets = true;
+  /// Volumes are marched at their step x 2^volumeStepScale (Volume::march's stepScale; progressive refinement's
+  /// looser levels halve it: -1, -2, ...). Default 0: each volume's own step.
+  int volumeStepScale = 0;
+  /// The step truncation's estimate: every ray that crosses a volume marches it again at twice the step, and the
+  /// difference of the two results (colour, and transmittance times what lies behind; for shadow rays times the
+  /// light's term) is added to the truncation part (Richardson's comparison: the midpoint rule's error at the step
+  /// is about a third of that difference where the integrand is smooth, about all of it at a jump of the transfer
+  /// function). About 1.5x the volume samples. Default on (the renderer turns it off with
+  /// RenderSettings::errorEstimates off).
+  bool volumeStepEstimate = true;
 };
 
 /// Ray counts of one frame (summed over threads).
@@ -101,7 +111,9 @@ struct RayStats {
   /// Cut rays whose bound rays reached IntegratorSettings::truncationBoundRays (charged the scene-wide bound for
   /// the levels left).
   uint64_t boundRaysCapped = 0;
-  uint64_t volumeSamples = 0;  ///< Volume samples taken (camera, secondary and shadow rays' marches).
+  uint64_t volumeSamples = 0;  ///< Volume samples of camera and secondary rays' marches (shadow rays': not counted).
+  /// Volume samples of the step truncation's estimate (IntegratorSettings::volumeStepEstimate), counted likewise.
+  uint64_t volumeEstimateSamples = 0;
   /// Rays whose volume march stopped early (early ray termination: the ray's weight times the transmittance fell
   /// below IntegratorSettings::contributionThreshold); what lies behind is charged to the truncation bound.
   uint64_t volumeTerminated = 0;
@@ -130,6 +142,7 @@ struct RayStats {
     boundRays += o.boundRays;
     boundRaysCapped += o.boundRaysCapped;
     volumeSamples += o.volumeSamples;
+    volumeEstimateSamples += o.volumeEstimateSamples;
     volumeTerminated += o.volumeTerminated;
     volumeInvalidSamples += o.volumeInvalidSamples;
     nonFiniteSamples += o.nonFiniteSamples;
@@ -146,7 +159,7 @@ struct RayStats {
   /// Every ray that walked the scene (traced rays and bound rays): what a sample cost.
   uint64_t traversals() const { return traced() + boundRays; }
 };
-static_assert(sizeof(RayStats) == 16 * sizeof(uint64_t), "RayStats::operator+= adds every field");
+static_assert(sizeof(RayStats) == 17 * sizeof(uint64_t), "RayStats::operator+= adds every field");
 
 /// Result of one camera ray.
 ///
@@ -266,6 +279,10 @@ class Integrator {
     return childDepth > referenceDepth_ ? 0.0f : remaining_[std::size_t(referenceDepth_ - childDepth)];
   }
   void buildRemainingBounds();
+  /// How this integrator's rays march volumes: its step scale, and error for the step's estimate when it is on.
+  VolumeStep volumeStep(float* error) const {
+    return VolumeStep{s_.volumeStepScale, volumes_ && s_.volumeStepEstimate ? error : nullptr};
+  }
 
   /// Accumulators of one camera ray's path tree.
   struct PathState {

@@ -56,12 +56,12 @@ struct Integrator::AnsweredShadows {
   static constexpr bool kCollect = false;
   const Scene& scene;
   const FirstHit& fh;
-  Color operator()(int light, const Ray& sr, float cutoff, RayStats& st, bool& cut) const {
-    if (light < kPacketLights && (fh.lights >> light & 1)) {
+  Color operator()(int light, const Ray& sr, float cutoff, RayStats& st, bool& cut, VolumeStep vs) const {
+    if (light < kPacketLights && (fh.lights >> light & 1)) {  // (packets: scenes without volumes)
       cut = fh.cut(light);
       return fh.t(light);
     }
-    return scene.transmittance(sr, cutoff, &st.nodesVisited, &cut);
+    return scene.transmittance(sr, cutoff, &st.nodesVisited, &cut, vs);
   }
 };
 
@@ -69,17 +69,18 @@ struct Integrator::AnsweredShadows {
 struct Integrator::TraceShadows {
   static constexpr bool kCollect = false;
   const Scene& scene;
-  Color operator()(int /*light*/, const Ray& sr, float cutoff, RayStats& st, bool& cut) const {
-    return scene.transmittance(sr, cutoff, &st.nodesVisited, &cut);
+  Color operator()(int /*light*/, const Ray& sr, float cutoff, RayStats& st, bool& cut, VolumeStep vs) const {
+    return scene.transmittance(sr, cutoff, &st.nodesVisited, &cut, vs);
   }
 };
 
-/// Shadow rays of a bound ray's hit, traced without the threshold: the exact transmittance the reference sees.
+/// Shadow rays of a bound ray's hit, traced without the threshold: the exact transmittance the reference sees
+/// (volumes at the level's step, without the step's estimate).
 struct Integrator::ExactShadows {
   static constexpr bool kCollect = false;
   const Scene& scene;
-  Color operator()(int /*light*/, const Ray& sr, float /*cutoff*/, RayStats& st, bool& cut) const {
-    return scene.transmittance(sr, 0.0f, &st.nodesVisited, &cut);
+  Color operator()(int /*light*/, const Ray& sr, float /*cutoff*/, RayStats& st, bool& cut, VolumeStep vs) const {
+    return scene.transmittance(sr, 0.0f, &st.nodesVisited, &cut, VolumeStep{vs.scale, nullptr});
   }
 };
 

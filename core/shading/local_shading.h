@@ -60,9 +60,16 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
         // Stop just short of a point light (the light itself is not geometry)
         sr.tMax = std::isfinite(ls.distance) ? glm::length(light.position - sr.origin) * (1.0 - 1e-9) : kInfinity;
         bool cut = false;
-        Color t = shadows(j, sr, s_.contributionThreshold, st, cut);
+        float stepError = 0.0f;  // the volumes' step truncation of t (with volumeStepEstimate)
+        Color t = shadows(j, sr, s_.contributionThreshold, st, cut, volumeStep(&stepError));
         if constexpr (ShadowFn::kCollect) continue;
         ++st.shadow;
+        if (stepError > 0.0f) {
+          // What this light's diffuse and specular terms would change by with the volumes' transmittance off by
+          // stepError
+          const Color full = float(df) * lc * dif + (wantSpecular ? float(specularFactor()) * lc * spe : Color(0.0f));
+          shadowCut += stepError * maxComponent(full);
+        }
         if (maxComponent(t) <= 0.0f) {
           // Cut by the threshold, the transmittance was below it in every channel: at most that share of this
           // light's diffuse and specular terms is missing. The tight bound traces the shadow ray again without
@@ -72,7 +79,8 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
             const Color full = float(df) * lc * dif + (wantSpecular ? float(specularFactor()) * lc * spe : Color(0.0f));
             if (s_.truncationLookahead > 0) {
               ++st.boundRays;
-              shadowCut += maxComponent(scene_.transmittance(sr, 0.0f, &st.nodesVisited) * full);
+              shadowCut += maxComponent(
+                  scene_.transmittance(sr, 0.0f, &st.nodesVisited, nullptr, VolumeStep{s_.volumeStepScale}) * full);
             } else {
               shadowCut += s_.contributionThreshold * maxComponent(full);
             }

@@ -21,16 +21,31 @@ Color Integrator::throughVolumes(const Ray& ray, int depth, const Color& weight,
   // secondary rays
   const float wmax = maxComponent(weight);
   const float stopBelow = wmax > 0.0f ? s_.contributionThreshold / wmax : 0.0f;
+  const double tEnd = fh.found ? fh.hit.t : ray.tMax;
   VolumeMarch vm;
-  scene_.marchVolumes(ray, fh.found ? fh.hit.t : ray.tMax, true, stopBelow, vm);
+  scene_.marchVolumes(ray, tEnd, true, stopBelow, vm, s_.volumeStepScale);
   st.volumeSamples += vm.samples;
   st.volumeInvalidSamples += vm.invalidSamples;
   const float T = vm.transmittance;
+  // The step truncation's estimate (IntegratorSettings::volumeStepEstimate): the same march at twice the step,
+  // composited over what lies behind as the march is (below)
+  VolumeMarch coarse;
+  const bool estimate = s_.volumeStepEstimate && vm.samples > 0;
+  if (estimate) {
+    scene_.marchVolumes(ray, tEnd, true, stopBelow, coarse, s_.volumeStepScale + 1);
+    st.volumeEstimateSamples += coarse.samples;
+  }
+  const Color dC = coarse.color - vm.color;
+  const float dT = coarse.transmittance - T;
   if (vm.terminated) {
     // Left out: the rest of the volumes (colours at most 1) and what lies behind them, at most T x the bound on a
     // ray at this depth
     ++st.volumeTerminated;
-    ps.truncation += wmax * T * std::max(1.0f, remainingBound(depth));
+    // (the estimate: the colours' difference and the transmittances' times what lies behind, which is at most
+    // the bound: the larger of the two ends of that range)
+    const float bound = std::max(1.0f, remainingBound(depth));
+    ps.truncation += wmax * T * bound;
+    if (estimate) ps.truncation += wmax * maxComponent(glm::max(glm::abs(dC), glm::abs(dC + dT * bound)));
     if (fh.found) {
       if (tHit) *tHit = fh.hit.t;
       if (firstHit) {
@@ -42,6 +57,7 @@ Color Integrator::throughVolumes(const Ray& ray, int depth, const Color& weight,
   }
   const Color behind =
       radiance<Reflect, Refract, Shadows, true>(ray, depth, weight * T, straight, st, ps, tHit, firstHit, &fh);
+  if (estimate) ps.truncation += wmax * maxComponent(glm::abs(dC + dT * behind));
   return vm.color + T * behind;
 }
 
