@@ -87,6 +87,8 @@ int main(int argc, char** argv) {
   Options o;
   if (!parseOptions(argc, argv, o)) return 2;
   const int w = o.w, h = o.h;
+  // The volumes' step estimate where refinement steers by it, as the VTK pass sets it
+  o.rs.integrator.volumeStepEstimate = o.rs.targetError > 0.0 || o.rs.timeBudget > 0.0;
 
   // Scene and camera
   Scene scene;

@@ -140,8 +140,14 @@ std::string Volume::prepare(std::size_t& invalidScalars) {
   step_ = std::isfinite(sampleDistance) && sampleDistance > 0.0 ? sampleDistance : 0.5 * shortest;
   step_ = std::max(step_, diagonal / kMaxSteps);
   if (!(std::isfinite(step_) && step_ > 0.0)) return "volume: no usable step (grid extent not finite)";
+  // The finest scale's step is at least the longest diagonal / (2 kMaxSteps): no chord takes more steps than the
+  // march's cap (a sheared grid's diagonals differ)
+  double longest = 0.0;
+  for (int c = 0; c < 4; ++c)
+    longest = std::max(longest, glm::length(measured * Vec3((c & 1 ? -1.0 : 1.0) * (grid.dims[0] - 1),
+                                                            (c & 2 ? -1.0 : 1.0) * (grid.dims[1] - 1), grid.dims[2] - 1)));
   finestScale_ = 0;
-  while (finestScale_ > -30 && std::ldexp(step_, finestScale_ - 1) >= diagonal / (2.0 * kMaxSteps)) --finestScale_;
+  while (finestScale_ > -30 && std::ldexp(step_, finestScale_ - 1) >= longest / (2.0 * kMaxSteps)) --finestScale_;
   buildTable();
   buildMacroCells();
   ready_ = true;

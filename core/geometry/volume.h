@@ -194,7 +194,7 @@ struct Volume {
   /// (transfer.gradientOpacity) scales each alpha. stepScale marches at step() x 2^stepScale instead (the step
   /// truncation's estimate marches at +1, progressive refinement's looser levels at -1, -2, ...: each full step's
   /// alpha from the table's by 1 - (1 - a)^(2^stepScale)), at most as fine as twice kMaxSteps over the grid's
-  /// diagonal (a finer scale is taken as that one).
+  /// longest diagonal (a finer scale is taken as that one: finestStepScale).
   void march(const Ray& ray, double t0, double t1, bool emission, float stopBelow, VolumeMarch& acc,
              const VolumeLighting& lighting = VolumeLighting(), int stepScale = 0) const;
   /// The finest stepScale march() takes for this volume (after prepare): 0 or below.
@@ -206,7 +206,7 @@ struct Volume {
   Bounds3 bounds_;
   Mat3 toIndex_{1.0};  ///< World vector -> index-space vector.
   double step_ = 1.0;
-  int finestScale_ = 0;  ///< The least stepScale whose step is at least the diagonal / (2 kMaxSteps).
+  int finestScale_ = 0;  ///< The least stepScale whose step is at least the longest diagonal / (2 kMaxSteps).
   struct Entry {
     Color color;
     float opacity;

@@ -30,12 +30,14 @@ IntegratorSettings levelSettings(const IntegratorSettings& frame, int level) {
 }
 
 // The deepest level that still loosens anything (levels past kLoosenMaxDepth and a negligible threshold change
-// nothing, unless the scene has volumes, whose step every level halves)
-int loosestLevel(const IntegratorSettings& frame, bool volumes) {
+// nothing, nor does a step halved past every volume's finest: finestVolumeStep, Scene::finestVolumeStepScale)
+int loosestLevel(const IntegratorSettings& frame, int finestVolumeStep) {
   int level = 0;
   while (level < kMaxLoosening) {
     const IntegratorSettings a = levelSettings(frame, level), b = levelSettings(frame, level + 1);
-    if (!volumes && a.maxDepth == b.maxDepth && a.contributionThreshold < kNegligibleThreshold) break;
+    if (a.maxDepth == b.maxDepth && a.contributionThreshold < kNegligibleThreshold &&
+        b.volumeStepScale < finestVolumeStep)
+      break;
     ++level;
   }
   return level;
@@ -71,7 +73,7 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
     marks_.assign(std::size_t(w_) * h_, 0);
   if (keep) keep->pending.clear();
   coarse_ = makeCoarse();
-  const int maxLevel = loosestLevel(s_.integrator, scene_.features().volumes);
+  const int maxLevel = loosestLevel(s_.integrator, scene_.finestVolumeStepScale());
   // A pixel with one sample has no calibrated estimate (its neighbour rule cannot see a thin feature its centre
   // sample missed): the target is met only when every traced pixel has its grid (a sample minimum, as Cycles'),
   // and such pixels stay candidates whatever their estimate (kMinimumVariance)

@@ -206,3 +206,76 @@ TEST(ErrorEstimate, TargetBelowTheVolumeStepErrorHalvesTheStep) {
     EXPECT_EQ(fs.rays.safetyNetCatches(), 0u);
   }
 }
+
+// The step estimate where the step cannot get finer: a volume whose sample distance is below the grid's longest
+// diagonal / kMaxSteps marches at most twice as finely (Volume::finestStepScale -1). Levels past it (scale -2, -3)
+// march as -1 does, and their estimate compares that march with one at twice its step (scale 0), not with itself:
+// the same truncation part as at -1, above 0 (before, it compared the finest march with itself: 0).
+TEST(ErrorEstimate, VolumeStepEstimateAtTheFinestStep) {
+  Scene s;
+  s.addVolume(sharpVolume(Vec3(-1.0), Vec3(1.0), 1e-9));
+  s.background = Color(0.32f, 0.34f, 0.43f);
+  s.commit();
+  ASSERT_EQ(s.volume(0).finestStepScale(), -1);
+  EXPECT_EQ(s.finestVolumeStepScale(), -1);
+  Ray r;
+  r.origin = Vec3(0.05, 0.1, -3.0);
+  r.dir = Vec3(0.0, 0.0, 1.0);
+  float bound[4];
+  Color color[4];
+  for (int k = 0; k < 4; ++k) {
+    IntegratorSettings is;
+    is.volumeStepScale = -k;
+    is.contributionThreshold = 0.0f;  // (no early termination: the part is the step's alone)
+    Integrator integ(s, is, Vec3(0, 1, 0));
+    RayStats st;
+    const Sample smp = integ.trace(r, st, s.background);
+    bound[k] = smp.truncationBound;
+    color[k] = smp.color;
+    EXPECT_GT(st.volumeEstimateSamples, 0u) << k;
+  }
+  EXPECT_GT(bound[1], 0.0f);
+  for (int k = 2; k < 4; ++k) {
+    EXPECT_EQ(bound[k], bound[1]) << k;
+    EXPECT_EQ(color[k], color[1]) << k;
+  }
+}
+
+// The step estimate of shadow rays alone: a floor lit from above through the volume, the volume itself out of view
+// (every camera ray misses it): at 4x the volume's step, the truncation part covers the floor's measured difference
+// to the same frame at 1/16 of the step at all but a few pixels; without the estimate, at many more.
+TEST(ErrorEstimate, VolumeStepEstimateOfShadowRays) {
+  const int w = 64, h = 48;
+  Scene s;
+  TriangleMesh floor = makeGrid(Vec3(-4.0, -2.0, -4.0), Vec3(8.0, 0.0, 0.0), Vec3(0.0, 0.0, 8.0), 1, 1);
+  const uint32_t m = s.addMaterial(Material{});
+  s.addInstance(s.addMesh(std::move(floor)), Mat4(1.0), m);
+  s.addVolume(sharpVolume(Vec3(-1.0, 0.0, -1.0), Vec3(1.0, 2.0, 1.0)));
+  Light l;  // directional, from above
+  l.position = Vec3(0.2, 6.0, 0.1);
+  s.lights().push_back(l);
+  s.commit();
+  CameraSpec cs;
+  cs.eye = Vec3(0.0, -1.0, 5.0);  // below the volume's bottom (y 0), looking down at the floor
+  cs.focal = Vec3(0.0, -2.0, 0.0);
+  const Camera cam = cs.make(double(w) / h, s.bounds());
+  RenderSettings rs;
+  rs.integrator.volumeStepScale = 2;
+  rs.integrator.contributionThreshold = 0.0f;
+  FrameBuffer fb, without, ref;
+  const FrameStats fs = render(s, cam, rs, w, h, fb);
+  EXPECT_EQ(fs.rays.volumeSamples, 0u);  // no camera ray crosses the volume
+  RenderSettings plain = rs;
+  plain.integrator.volumeStepEstimate = false;
+  render(s, cam, plain, w, h, without);
+  RenderSettings fine = plain;
+  fine.integrator.volumeStepScale = -4;
+  render(s, cam, fine, w, h, ref);
+  const Measured with = measure(fb, ref), none = measure(without, ref);
+  std::printf("shadows through the volume: measured RMS %.5f (largest %.4f), truncation RMS %.5f; under at %d pixels "
+              "(shortfall %.5f), without the estimate at %d (%.5f)\n",
+              with.rms, with.largest, fs.truncation.rms, with.under, with.shortfall, none.under, none.shortfall);
+  EXPECT_GT(with.largest, 0.01f);  // the step's error is visible in the shadow
+  EXPECT_LE(with.under, w * h / 300);
+  EXPECT_GT(none.under, 2 * with.under + 10);
+}

@@ -247,9 +247,14 @@ class Scene {
   const std::string& volumeError(uint32_t id) const { return volumes_[id].error; }
   /// Emission-absorption along ray over (ray.tMin, tEnd) through every traced volume, front to back into acc (see
   /// Volume::march; volumes are marched one after the other in the order they are entered, so overlapping volumes
-  /// are composited approximately). Stops once acc.transmittance < stopBelow. stepScale: Volume::march's.
-  void marchVolumes(const Ray& ray, double tEnd, bool emission, float stopBelow, VolumeMarch& acc,
-                    int stepScale = 0) const;
+  /// are composited approximately). Stops once acc.transmittance < stopBelow. stepScale: Volume::march's;
+  /// coarser: each volume at twice the step it marches at with stepScale (the step estimate's march: a volume
+  /// already at its finest step, Volume::finestStepScale, is compared with twice that, not with itself).
+  void marchVolumes(const Ray& ray, double tEnd, bool emission, float stopBelow, VolumeMarch& acc, int stepScale = 0,
+                    bool coarser = false) const;
+  /// The least Volume::finestStepScale of the traced volumes (0 without any): how many times progressive
+  /// refinement can halve a step and still change some volume's march.
+  int finestVolumeStepScale() const;
 
   // Commit and queries ------------------------------------------------------------------------------------
   /// Rebuilds dirty object BVHs and, if needed, the top-level BVH; detects features. Sanitises materials, lights

@@ -351,7 +351,7 @@ Color Scene::transmittance(const Ray& ray, float cutoff, uint64_t* nodes, bool* 
     marchVolumes(ray, ray.tMax, false, 0.0f, vm, step.scale);
     if (step.error && vm.samples > 0) {
       VolumeMarch coarse;
-      marchVolumes(ray, ray.tMax, false, 0.0f, coarse, step.scale + 1);
+      marchVolumes(ray, ray.tMax, false, 0.0f, coarse, step.scale, true);
       *step.error += maxComponent(atten) * std::abs(vm.transmittance - coarse.transmittance);
     }
     atten *= vm.transmittance;

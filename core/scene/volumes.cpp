@@ -83,6 +83,13 @@ void Scene::addVolumeBounds() {
     if (v.traced()) bounds_.extend(v.volume.bounds());
 }
 
+int Scene::finestVolumeStepScale() const {
+  int finest = 0;
+  for (const SceneVolume& v : volumes_)
+    if (v.traced()) finest = std::min(finest, v.volume.finestStepScale());
+  return finest;
+}
+
 void Scene::volumeStats(SceneStats& s) const {
   for (const SceneVolume& v : volumes_) {
     if (!v.traced()) continue;
@@ -92,7 +99,7 @@ void Scene::volumeStats(SceneStats& s) const {
 }
 
 void Scene::marchVolumes(const Ray& ray, double tEnd, bool emission, float stopBelow, VolumeMarch& acc,
-                         int stepScale) const {
+                         int stepScale, bool coarser) const {
   // The segments of the ray in each traced volume, marched in the order they are entered
   struct Segment {
     double t0, t1;
@@ -121,7 +128,8 @@ void Scene::marchVolumes(const Ray& ray, double tEnd, bool emission, float stopB
   lighting.lights = volumeLights_.data();
   lighting.count = volumeLights_.size();
   for (std::size_t i = 0; i < n && !acc.terminated; ++i)
-    seg[i].v->march(ray, seg[i].t0, seg[i].t1, emission, stopBelow, acc, lighting, stepScale);
+    seg[i].v->march(ray, seg[i].t0, seg[i].t1, emission, stopBelow, acc, lighting,
+                    coarser ? std::max(stepScale, seg[i].v->finestStepScale()) + 1 : stepScale);
 }
 
 }  // namespace whitted

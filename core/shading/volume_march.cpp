@@ -32,7 +32,7 @@ Color Integrator::throughVolumes(const Ray& ray, int depth, const Color& weight,
   VolumeMarch coarse;
   const bool estimate = s_.volumeStepEstimate && vm.samples > 0;
   if (estimate) {
-    scene_.marchVolumes(ray, tEnd, true, stopBelow, coarse, s_.volumeStepScale + 1);
+    scene_.marchVolumes(ray, tEnd, true, stopBelow, coarse, s_.volumeStepScale, true);
     st.volumeEstimateSamples += coarse.samples;
   }
   const Color dC = coarse.color - vm.color;
