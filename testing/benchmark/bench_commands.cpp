@@ -45,6 +45,8 @@ RenderSettings settingsFrom(const Args& a) {
       float(a.real("relative-tolerance", rs.integrator.truncationRelativeTolerance));
   rs.targetError = a.real("target-error", 0.0);
   rs.timeBudget = a.real("time-budget", 0.0);
+  // The volumes' step estimate where refinement steers, as the VTK pass sets it
+  rs.integrator.volumeStepEstimate = rs.targetError > 0.0 || rs.timeBudget > 0.0 || a.has("volume-step-estimate");
   return rs;
 }
 

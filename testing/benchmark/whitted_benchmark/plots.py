@@ -390,6 +390,9 @@ def volume_steps(ctx, rows):
     a1.loglog(step, err, "o-", label="RMSE against step %g" % rows[0]["reference_step"])
     # Second order: error proportional to step^2 through the largest step
     a1.loglog(step, [err[0] * (s / step[0]) ** 2 for s in step], "--", color="grey", label="slope 2")
+    if all("step_estimate_rms" in r for r in rows):  # the step's error estimate beside the measured, in its units
+        a1.loglog(step, [max(r["max_channel_rms"], 1e-9) for r in rows], "s-", label="measured, largest channel")
+        a1.loglog(step, [max(r["step_estimate_rms"], 1e-9) for r in rows], "^-", label="the step's estimate")
     a1.set_xlabel("sample distance (world units)")
     a1.set_ylabel("RMSE (linear RGB)")
     a1.legend()

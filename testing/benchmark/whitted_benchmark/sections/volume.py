@@ -66,9 +66,16 @@ def _steps_report(ctx):
             "falls below it, which adds a first-order term (below 1e-4 at the voxel spacing, the VTK mappers' "
             "default, 1 here).\n" % (
                 r0["scene"], r0["width"], r0["height"], r0["reference_step"]),
-            md_table(["step", "frame ms (wall / CPU)", "volume samples", "RMSE", "largest difference (8-bit levels)"],
+            "\nThe last two columns are in the units of the frame's error estimate (largest channel per pixel, RMS "
+            "over pixels): the measured difference, and the step's error estimate (`IntegratorSettings::"
+            "volumeStepEstimate`: the march again at twice the step; on where refinement steers, so not in the "
+            "timed frames).\n\n",
+            md_table(["step", "frame ms (wall / CPU)", "volume samples", "RMSE", "largest difference (8-bit levels)",
+                      "measured (largest channel)", "step's estimate"],
                      [["%g" % r["step"], "%s / %s" % (ms(r["seconds_median"]), ms(r["cpu_seconds_median"])),
-                       r["volume_samples"], "%.2g" % r["rmse"], r["max_levels"]] for r in rows]),
+                       r["volume_samples"], "%.2g" % r["rmse"], r["max_levels"],
+                       "%.2g" % r["max_channel_rms"] if "max_channel_rms" in r else "-",
+                       "%.2g" % r["step_estimate_rms"] if "step_estimate_rms" in r else "-"] for r in rows]),
             "\n![volume steps](volume_steps.png)\n"]
 
 
