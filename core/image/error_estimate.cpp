@@ -70,8 +70,16 @@ void FrameJob::estimateErrors(FrameStats& fs) {
 void FrameJob::poolCalibrated() {
   const std::size_t size = std::size_t(w_) * h_;
   std::vector<float> perSample(size, -1.0f);  // -1: no estimate (not traced, or one sample)
+  const bool probed = progressive_ && s_.targetError > 0.0;
   for (std::size_t i = 0; i < size; ++i) {
     const int n = fb_.samples[i];
+    if (fb_.traced[i] && n == 1 && probed) {
+      // A one-sample pixel: the mean squared change the probes of its neighbour rule's bucket measured
+      // (kProbeStride), where there were enough of them
+      const float m = measures_.probeMean(fb_.samplingRms[i]);
+      if (m >= 0.0f)
+        fb_.samplingRms[i] = std::min(1.0f, std::sqrt(std::max(m, fb_.samplingRms[i] * fb_.samplingRms[i])));
+    }
     if (!fb_.traced[i] || n < 2) continue;
     const float e = progressive_ ? calibratedSampling(acc_[i].sum, acc_[i].sumOdd, acc_[i].n, acc_[i].nOdd)
                                  : fb_.samplingRms[i];

@@ -226,11 +226,18 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
       sum += bucketRays[std::size_t(--cutBucket)];
       gain += bucketGain[std::size_t(cutBucket)];
     }
+    // The frame's first round with a target also grids every one-sample pixel on the probe pattern
+    const bool probe = s_.targetError > 0.0 && fs.refinementRounds == 0;
     std::size_t marked = 0;
     for (std::size_t i = 0; i < acc_.size(); ++i) {
       const Choice& c = choices[i];
       const bool take = singlesOnly ? single(i) : bucketOf(c.gainPerRay) >= cutBucket;
       marks_[i] = c.action != kKeep && take ? c.action : uint8_t(kKeep);
+      if (probe && single(i) && probePixel(int(i % std::size_t(w_)), int(i / std::size_t(w_)))) {
+        if (marks_[i] != kSample && marks_[i] != kSampleCoarse)
+          marks_[i] = choose(i, true).action == kSampleCoarse ? kSampleCoarse : kSample;
+        acc_[i].probeEstimate = fb_.samplingRms[i];
+      }
       marked += marks_[i] != kKeep;
     }
     if (marked == 0) {
@@ -314,6 +321,7 @@ void FrameJob::refinePixels(int tileSlot, int maxSamples) {
     bool loosened = false;
     int levelBefore = 0;
     uint32_t raysBefore = 0;
+    const float probeEstimate = ps.probeEstimate;  // (a probe's: see kProbeStride)
     const Color4 colorBefore = fb_.color[idx];
     const float boundBefore = fb_.truncation[idx];
     if (marks_[idx] == kLoosen) {
@@ -346,10 +354,13 @@ void FrameJob::refinePixels(int tileSlot, int maxSamples) {
     }
     marks_[idx] = kKeep;
     writePixel(idx, ps, st);
-    if (loosened) {
+    const bool probed = probeEstimate >= 0.0f && ps.n > 1;  // a probe that got its grid (once: the grid clears it)
+    if (loosened || probed) {
       const Color4 d = glm::abs(glm::clamp(fb_.color[idx], Color4(0.0f), Color4(1.0f)) -
                                 glm::clamp(colorBefore, Color4(0.0f), Color4(1.0f)));
-      measures_.addLoosen(levelBefore, raysBefore, ps.rays, boundBefore, std::max(std::max(d.x, d.y), d.z));
+      const float change = std::max(std::max(d.x, d.y), d.z);
+      if (loosened) measures_.addLoosen(levelBefore, raysBefore, ps.rays, boundBefore, change);
+      if (probed) measures_.addProbe(probeEstimate, change);
     }
   });
   samples_ += samples;

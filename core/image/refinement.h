@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -32,6 +33,16 @@ constexpr double kNeedMargin = 1.5;
 /// a pixel must get its grid before the target counts as met (its neighbour rule may miss a thin feature), so it
 /// stays a candidate even where its neighbours predict it.
 constexpr double kMinimumVariance = 4.0;
+/// With a TargetError, the first round gives every one-sample pixel on a fixed pattern (one in kProbeStride, see
+/// probePixel) its grid, whatever its estimate: a sample of the one-sample pixels chosen independently of the image,
+/// whose measured change (centre sample against its grid's mean) calibrates the neighbour rule of the pixels still
+/// at one sample (RefineMeasures::probeMean). Every such pixel gets its grid before the target is met anyway.
+constexpr int kProbeStride = 16;
+/// Whether pixel (x, y) is on the probe pattern: one pixel in 16 per row, each row's shifted by 4 (spread over the
+/// image like a rotated grid).
+inline bool probePixel(int x, int y) { return (x + 4 * y) % kProbeStride == 0; }
+/// Probes per estimate bucket before its mean replaces the neighbour rule.
+constexpr int kProbeMinimum = 4;
 /// Priority buckets of a round's selection (pixels ranked by gain per ray), each 1 / kBucketsPerOctave of an
 /// octave of gain per ray, centred on a gain per ray of 1.
 constexpr int kBuckets = 512;
@@ -82,6 +93,17 @@ class RefineMeasures {
   float gridGrowth(bool coarse) const { return ratio(kRays + kGrid + coarse, 1.0, kPriorRays); }
   /// Share of the truncation bound of pixels at this level that loosening them changed
   float truncationShare(int level) const { return ratio(kTruncation + std::size_t(level + 1), 1.0, kPriorBound); }
+  /// A probe pixel (kProbeStride) got its grid: its neighbour-rule estimate e0 before, and change, the largest
+  /// channel's difference between its centre sample and its grid's mean (whose square estimates the centre
+  /// sample's squared error, plus the grid's own variance: a little over).
+  void addProbe(float e0, float change) { add(kProbe + probeBucket(e0), 1, fixed(change * change)); }
+  /// The mean squared change of the probes whose estimate was in e0's bucket (an octave of e0; one bucket below
+  /// 2^-12), or -1 when fewer than kProbeMinimum were.
+  float probeMean(float e0) const {
+    const std::size_t k = kProbe + probeBucket(e0);
+    const uint64_t n = before_[k].load();
+    return n >= uint64_t(kProbeMinimum) ? float(double(after_[k].load()) / kFixed / double(n)) : -1.0f;
+  }
   void save(std::vector<uint64_t>& out) const {
     out.resize(2 * kSlots);
     for (std::size_t k = 0; k < kSlots; ++k) {
@@ -99,7 +121,12 @@ class RefineMeasures {
 
  private:
   static constexpr std::size_t kLevels = kMaxLoosening + 2, kGrid = kLevels, kRays = 0, kTruncation = kLevels + 2;
-  static constexpr std::size_t kSlots = kTruncation + kLevels;
+  static constexpr std::size_t kProbe = kTruncation + kLevels, kProbeBuckets = 13;
+  static constexpr std::size_t kSlots = kProbe + kProbeBuckets;
+  static std::size_t probeBucket(float e0) {
+    if (!(e0 > 0x1p-12f)) return 0;
+    return std::size_t(std::clamp(std::floor(std::log2(e0)) + 13.0f, 1.0f, float(kProbeBuckets - 1)));
+  }
   /// Priors: a loosened pixel's rays grow 4x, a grid's rays per sample and the truncation share start at 1, each
   /// as if measured on a few pixels (64 rays; 4 pixels with a bound of 1); the bounds in fixed point.
   static constexpr double kLoosenPrior = 4.0, kPriorRays = 64.0, kFixed = double(1 << 24);

@@ -28,7 +28,8 @@ struct FrameBuffer {
   /// - sampling: an estimate of the pixel's anti-aliasing error (see kSamplingConfidence).
   std::vector<float> truncation, sampling;
   /// The calibrated sampling estimate (an RMS estimate, not a bound; see kCalibratedConfidence): from the two
-  /// interleaved halves of a pixel's samples; for a one-sample pixel, sampling (the neighbour rule). 0 where not
+  /// interleaved halves of a pixel's samples; for a one-sample pixel, sampling (the neighbour rule; with a
+  /// TargetError at least its probes' mean, see kProbeStride in image/refinement.h). 0 where not
   /// traced.
   std::vector<float> samplingRms;
   std::vector<uint16_t> samples;  ///< Camera samples taken per pixel.
@@ -53,6 +54,9 @@ struct PixelSums {
   int strata = 1;  ///< Samples of the first pass (a stratified grid); later samples continue a 2D sequence.
   int level = 0;  ///< Loosening level the samples were traced at, -1 = coarse (see RenderSettings::targetError).
   uint32_t rays = 0;  ///< Rays (traced and bound rays) for the samples summed (what tracing them again costs).
+  /// A one-sample pixel marked as a probe (kProbeStride in image/refinement.h): its neighbour-rule estimate then
+  /// (kept with the marks, so a round split over calls records the same); -1 otherwise.
+  float probeEstimate = -1.0f;
   bool anyHit = false;
 };
 
