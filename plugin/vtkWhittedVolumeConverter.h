@@ -5,7 +5,7 @@
  * Private to the Whitted module. A vtkVolume is traced when its mapper is a vtkSmartVolumeMapper,
  * vtkGPUVolumeRayCastMapper or vtkFixedPointVolumeRayCastMapper with vtkImageData input (or an
  * unstructured-grid volume mapper, whose input is resampled to image data: vtkWhittedVolumeResampled), one
- * component of point scalars, blend mode composite, no gradient opacity, Shade off, no cropping
+ * component of point scalars, blend mode composite (Shade and gradient opacity are traced), no cropping
  * and no clipping planes; otherwise it is left to VTK's OpenGL volume pass with a warning that
  * names the setting (Verdict OpenGL). Bad input (empty image, a single point along an axis, zero or
  * non-finite spacing, a singular matrix) is not drawn at all, with a warning (Verdict Skipped);
