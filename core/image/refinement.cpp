@@ -74,9 +74,9 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
   if (keep) keep->pending.clear();
   coarse_ = makeCoarse();
   const int maxLevel = loosestLevel(s_.integrator, scene_.finestVolumeStepScale());
-  // A pixel with one sample has no calibrated estimate (its neighbour rule cannot see a thin feature its centre
-  // sample missed): the target is met only when every traced pixel has its grid (a sample minimum, as Cycles'),
-  // and such pixels stay candidates whatever their estimate (kMinimumVariance)
+  // A pixel with one sample has no calibrated estimate of its own (its neighbour rule cannot see a thin feature its
+  // centre sample missed): until the first round's probes have rated such pixels (kProbeStride) the target is not
+  // met while any is left, and they stay candidates whatever their estimate (kMinimumVariance)
   auto single = [&](std::size_t i) { return fb_.traced[i] && acc_[i].n == 1 && maxSamples >= kFirstStrata; };
   auto anySingle = [&] {
     for (std::size_t i = 0; i < acc_.size(); ++i)
@@ -89,7 +89,8 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
   fs.refinementExhausted = false;
   for (;;) {
     // (a pending round is finished first: the image it left half refined may meet the target early)
-    fs.targetMet = s_.targetError > 0.0 && fs.calibrated.rms <= s_.targetError && !anySingle();
+    fs.targetMet =
+        s_.targetError > 0.0 && fs.calibrated.rms <= s_.targetError && (fs.refinementRounds > 0 || !anySingle());
     if ((fs.targetMet && !pending) || tiles_.pastDeadline()) {
       fs.refinementFinished = true;
       break;

@@ -379,40 +379,50 @@ TEST(ErrorEstimate, RefinementPicksByGainPerRay) {
   EXPECT_LT(4 * refined[1], refined[0]);
 }
 
-// Once the estimate is under the target and only one-sample pixels keep it from counting as met, the next round
-// gives every one of them its grid: a looser level would leave them one sample and cost a round more each time.
-// The facing mirrors are truncation-heavy, where loosening such a pixel looked the better way (3 more rounds
-// before this rule; data/benchmark/target-error/README.md).
-TEST(ErrorEstimate, RoundOfSinglesGridsThemAll) {
+// One-sample pixels and the target (facing mirrors, 80x60, one round per call): a first pass already under the
+// target gives every one-sample pixel its grid in the first round (their neighbour rule alone cannot be trusted:
+// kMinimumVariance), and is met then; a target below the first pass's estimate is met as soon as the estimate is
+// under it after the first round (whose probes rate the one-sample pixels left, kProbeStride), with one-sample
+// pixels left, and not before (every earlier call's estimate is above the target).
+TEST(ErrorEstimate, OneSamplePixelsAndTheTarget) {
   Scene s;
   CameraSpec cs;
   buildFacingMirrorsScene(s, cs);
   s.commit();
   constexpr int w = 80, h = 60;
   const Camera cam = cs.make(double(w) / h, s.bounds());
+  FrameBuffer first;
+  const FrameStats f0 = render(s, cam, RenderSettings{}, w, h, first);
+  auto singles = [](const FrameBuffer& fb) {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < fb.samples.size(); ++i) n += fb.traced[i] && fb.samples[i] == 1;
+    return n;
+  };
+  {
+    RenderSettings rs;
+    rs.targetError = f0.calibrated.rms * 1.01;
+    FrameBuffer fb;
+    const FrameStats fs = render(s, cam, rs, w, h, fb);
+    EXPECT_TRUE(fs.targetMet);
+    EXPECT_EQ(fs.refinementRounds, 1);
+    EXPECT_EQ(singles(fb), 0u);
+  }
   RenderSettings rs;
   rs.targetError = 0.03;
+  ASSERT_GT(f0.calibrated.rms, rs.targetError);
   RefinementState state;
   rs.refinement = &state;
   rs.maxRefinementRounds = 1;
   FrameBuffer fb;
   FrameStats fs;
-  int calls = 0, underWithSingles = 0;
+  int calls = 0;
   do {
     fs = render(s, cam, rs, w, h, fb);
     ++calls;
-    const bool under = fs.calibrated.rms <= rs.targetError && !fs.targetMet && !fs.refinementFinished;
-    if (under) {
-      ++underWithSingles;
-      // The next call finishes: every traced pixel has several samples then
-      fs = render(s, cam, rs, w, h, fb);
-      ++calls;
-      EXPECT_TRUE(fs.refinementFinished) << calls;
-      EXPECT_TRUE(fs.targetMet) << calls << " " << fs.calibrated.rms;
-      for (std::size_t i = 0; i < fb.samples.size(); ++i)
-        if (fb.traced[i]) ASSERT_GT(fb.samples[i], 1) << i;
-    }
+    if (!fs.targetMet) EXPECT_GT(fs.calibrated.rms, rs.targetError) << calls;
   } while (!fs.refinementFinished && calls < 100);
-  EXPECT_EQ(underWithSingles, 1);  // the frame passes through that state (the case this test is about)
+  std::printf("mirrors target 0.03: met after %d calls, estimate %.4f, %zu one-sample pixels left\n", calls,
+              fs.calibrated.rms, singles(fb));
   EXPECT_TRUE(fs.targetMet);
+  EXPECT_GT(singles(fb), 0u);  // (the case this is about: met with one-sample pixels left)
 }

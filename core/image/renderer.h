@@ -104,9 +104,10 @@ struct RenderSettings {
   bool errorEstimates = true;
   /// Progressive refinement of a still frame (with errorEstimates): after the first pass, rounds refine the
   /// pixels where refining removes the most estimated squared error per ray it costs, until the calibrated RMS
-  /// estimate (FrameStats::calibrated.rms, not the bound total) is at most targetError and every traced pixel has
-  /// at least its 2x2 grid (a one-sample pixel has no calibrated estimate; with maxProgressiveSamples >= 4), the
-  /// frame has taken timeBudget seconds, or no pixel can be refined. Either at 0 (the default) leaves it out;
+  /// estimate (FrameStats::calibrated.rms, not the bound total) is at most targetError, after at least one round
+  /// while one-sample pixels are left (the first round grids a fixed sample of them, the probes, which rate the
+  /// rest: kProbeStride in image/refinement.h; a first pass under the target instead gives every one-sample pixel
+  /// its 2x2 grid; with maxProgressiveSamples >= 4), the frame has taken timeBudget seconds, or no pixel can be refined. Either at 0 (the default) leaves it out;
   /// both 0: no refinement. A pixel can get more samples (a
   /// pixel with only its centre sample a jittered 2x2 grid instead, as adaptive sampling does, traced at the
   /// coarse level -- contribution threshold x 16, at most 64/255, never below the frame's -- when its sampling

@@ -64,7 +64,25 @@ int cmdTarget(const Args& a) {
   const double maxSeconds = a.real("max-seconds", 60.0);
   const std::vector<double> targets = parseList(a.has("targets") ? a.str("targets") : "0.03,0.015,0.008");
   Camera cam = bs.camera.make(double(w) / h, bs.scene.bounds());
-  const FrameBuffer truth = renderTruth(bs, cam, w, h, factor, truthSpp, truthDepth);
+  // --truth-cache FILE: the truth's colours (raw floats) read from FILE if it holds this size, else rendered and
+  // written there (nestedglass's truth takes tens of minutes)
+  FrameBuffer truth;
+  const std::string truthCache = a.str("truth-cache");
+  bool cached = false;
+  if (!truthCache.empty())
+    if (FILE* fp = std::fopen(truthCache.c_str(), "rb")) {
+      truth.resize(w, h);
+      cached = std::fread(truth.color.data(), sizeof(Color4), truth.color.size(), fp) == truth.color.size();
+      std::fclose(fp);
+    }
+  if (!cached) {
+    truth = renderTruth(bs, cam, w, h, factor, truthSpp, truthDepth);
+    if (!truthCache.empty())
+      if (FILE* fp = std::fopen(truthCache.c_str(), "wb")) {
+        std::fwrite(truth.color.data(), sizeof(Color4), truth.color.size(), fp);
+        std::fclose(fp);
+      }
+  }
   CsvWriter csv(a.str("csv"), {"scene", "width", "height", "target", "met", "measured_below", "reported_rms",
                                "bound_rms", "measured_rms", "ratio", "spp", "seconds", "oracle_seconds", "rounds",
                                "calls"});
