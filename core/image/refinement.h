@@ -29,9 +29,8 @@ constexpr double kLeastEstimateShare = 0.5;
 /// A round near the target is cut to the pixels whose expected drop of the image's squared error is this many
 /// times what the target still needs (rms^2 - target^2 summed over the pixels)
 constexpr double kNeedMargin = 1.5;
-/// The least squared sampling estimate a one-sample pixel is ranked by, as a share of the squared target: such
-/// a pixel must get its grid before the target counts as met (its neighbour rule may miss a thin feature), so it
-/// stays a candidate even where its neighbours predict it.
+/// The least squared sampling estimate a one-sample pixel is ranked by, as a share of the squared target: its
+/// neighbour rule may miss a thin feature, so it stays a candidate even where its neighbours predict it.
 constexpr double kMinimumVariance = 4.0;
 /// With a TargetError, the first round gives every one-sample pixel on a fixed pattern (one in kProbeStride, see
 /// probePixel) its grid, whatever its estimate: a sample of the one-sample pixels chosen independently of the image,
