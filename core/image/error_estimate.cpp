@@ -55,8 +55,13 @@ class ErrorHistogram {
 
 }  // namespace
 
-void FrameJob::estimateErrors(FrameStats& fs) {
-  if (!tiles_.aborted()) runPass([&](int tile) { estimateFromNeighbours(tile); }, false, false);
+void FrameJob::estimateErrors(FrameStats& fs, bool evenIfAborted) {
+  if (!tiles_.aborted()) {
+    runPass([&](int tile) { estimateFromNeighbours(tile); }, false, false);
+  } else if (evenIfAborted) {
+    // (an aborted frame's scheduler runs no pass: on this thread, the same per-tile rule)
+    for (int slot = 0; slot < int(myTiles_.size()); ++slot) estimateFromNeighbours(slot);
+  }
   poolCalibrated();
   summarizeErrors(fs);
 }
@@ -78,7 +83,7 @@ void FrameJob::poolCalibrated() {
       // (kProbeStride), where there were enough of them
       const float m = measures_.probeMean(fb_.samplingRms[i]);
       if (m >= 0.0f)
-        fb_.samplingRms[i] = std::min(1.0f, std::sqrt(std::max(m, fb_.samplingRms[i] * fb_.samplingRms[i])));
+        fb_.samplingRms[i] = std::min(1.0f, std::sqrt(m));
     }
     if (!fb_.traced[i] || n < 2) continue;
     const float e = progressive_ ? calibratedSampling(acc_[i].sum, acc_[i].sumOdd, acc_[i].n, acc_[i].nOdd)

@@ -82,7 +82,9 @@ class FrameJob {
 
   // Error estimate (error_estimate.cpp)
   /// The neighbour part of the sampling estimate over the image, then its summaries into fs.
-  void estimateErrors(FrameStats& fs);
+  /// The neighbour part and the summaries; evenIfAborted: the neighbour part also after an abort (a round that
+  /// completed: whether the target is met must not depend on where a call was cut).
+  void estimateErrors(FrameStats& fs, bool evenIfAborted = false);
   /// The sampling estimate of a tile's pixels from their neighbours (see kSamplingConfidence).
   void estimateFromNeighbours(int tileSlot);
   /// FrameBuffer::samplingRms of the several-sample pixels: their half differences pooled over 3 x 3 pixels.

@@ -289,7 +289,7 @@ bool FrameJob::cutShort(FrameStats& fs, RefinementState* keep) {
 void FrameJob::finishRound(FrameStats& fs, int& rounds, double seconds) {
   ++fs.refinementRounds;
   ++rounds;
-  estimateErrors(fs);
+  estimateErrors(fs, true);
   fs.progress.emplace_back(seconds, fs.calibrated.rms);
 }
 
