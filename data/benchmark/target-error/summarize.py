@@ -14,7 +14,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("folder")
     ap.add_argument("--scenes", default="classic,iso60k,iso1m,iso4m,points100k,tubes,glassmirror,mirrors,lightinglass,"
-                    "fence,text")
+                    "nestedglass,fence,text")
     ap.add_argument("--frames", default="frames.csv")
     a = ap.parse_args()
     rows = []
