@@ -57,7 +57,12 @@ class ErrorHistogram {
 
 void FrameJob::estimateErrors(FrameStats& fs, bool evenIfAborted) {
   if (!tiles_.aborted()) {
+    // Every tile, past a time budget's deadline too (no tile of any pass starts after it): the figures decide
+    // whether the target is met, and a pass cut there would leave some pixels' estimates from the round before
+    const std::optional<std::chrono::steady_clock::time_point> deadline = tiles_.deadline();
+    tiles_.setDeadline(std::nullopt);
     runPass([&](int tile) { estimateFromNeighbours(tile); }, false, false);
+    tiles_.setDeadline(deadline);
   } else if (evenIfAborted) {
     // (an aborted frame's scheduler runs no pass: on this thread, the same per-tile rule)
     for (int slot = 0; slot < int(myTiles_.size()); ++slot) estimateFromNeighbours(slot);

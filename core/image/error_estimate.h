@@ -32,8 +32,9 @@ struct ErrorSummary {
 /// the pixel, so their difference has the stratified mean's spread, where the sample variance above has the
 /// spread of independent samples), as in Dammertz et al. 2010 and Cycles' adaptive sampling. A one-sample pixel
 /// takes the neighbour rule above, or, in a frame refined to a TargetError, the mean squared change the probes
-/// of its neighbour rule's bucket measured when larger (kProbeStride in image/refinement.h: the rule cannot see a
-/// thin feature no centre sample hit; the probes, chosen whatever their estimate, can). Per pixel it combines with the truncation bound in quadrature (calibratedTotal:
+/// of its neighbour rule's bucket measured (kProbeStride in image/refinement.h: the rule cannot see a thin feature
+/// no centre sample hit, and reads smooth shading's curvature as error; the probes, chosen whatever their
+/// estimate, measure both). Per pixel it combines with the truncation bound in quadrature (calibratedTotal:
 /// the bias and the random part of an error add as squares), and the image's RMS of that is the figure TargetError
 /// is compared with. It is a 1-sigma (mean square) estimate, with no coverage probability per pixel: about a third
 /// of the pixels are above it.

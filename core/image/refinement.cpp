@@ -89,8 +89,8 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
   fs.refinementExhausted = false;
   for (;;) {
     // (a pending round is finished first: the image it left half refined may meet the target early)
-    fs.targetMet =
-        s_.targetError > 0.0 && fs.calibrated.rms <= s_.targetError && (fs.refinementRounds > 0 || !anySingle());
+    fs.targetMet = s_.targetError > 0.0 && fs.calibrated.rms <= s_.targetError &&
+                   ((fs.refinementRounds > 0 && measures_.probesComplete()) || !anySingle());
     if ((fs.targetMet && !pending) || tiles_.pastDeadline()) {
       fs.refinementFinished = true;
       break;
@@ -229,7 +229,7 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
     }
     // The frame's first round with a target also grids every one-sample pixel on the probe pattern
     const bool probe = s_.targetError > 0.0 && fs.refinementRounds == 0;
-    std::size_t marked = 0;
+    std::size_t marked = 0, probes = 0;
     for (std::size_t i = 0; i < acc_.size(); ++i) {
       const Choice& c = choices[i];
       const bool take = singlesOnly ? single(i) : bucketOf(c.gainPerRay) >= cutBucket;
@@ -238,9 +238,11 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
         if (marks_[i] != kSample && marks_[i] != kSampleCoarse)
           marks_[i] = choose(i, true).action == kSampleCoarse ? kSampleCoarse : kSample;
         acc_[i].probeEstimate = fb_.samplingRms[i];
+        ++probes;
       }
       marked += marks_[i] != kKeep;
     }
+    measures_.addProbesMarked(probes);
     if (marked == 0) {
       fs.refinementFinished = true;
       fs.refinementExhausted = true;

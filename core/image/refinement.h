@@ -35,7 +35,8 @@ constexpr double kMinimumVariance = 4.0;
 /// With a TargetError, the first round gives every one-sample pixel on a fixed pattern (one in kProbeStride, see
 /// probePixel) its grid, whatever its estimate: a sample of the one-sample pixels chosen independently of the image,
 /// whose measured change (centre sample against its grid's mean) calibrates the neighbour rule of the pixels still
-/// at one sample (RefineMeasures::probeMean). Every such pixel gets its grid before the target is met anyway.
+/// at one sample (RefineMeasures::probeMean): the target can count as met with such pixels left once every probe
+/// is recorded. A bucket with fewer than kProbeMinimum probes keeps the neighbour rule.
 constexpr int kProbeStride = 16;
 /// Whether pixel (x, y) is on the probe pattern: one pixel in 16 per row, each row's shifted by 4 (spread over the
 /// image like a rotated grid).
@@ -95,7 +96,14 @@ class RefineMeasures {
   /// A probe pixel (kProbeStride) got its grid: its neighbour-rule estimate e0 before, and change, the largest
   /// channel's difference between its centre sample and its grid's mean (whose square estimates the centre
   /// sample's squared error, plus the grid's own variance: a little over).
-  void addProbe(float e0, float change) { add(kProbe + probeBucket(e0), 1, fixed(change * change)); }
+  void addProbe(float e0, float change) {
+    add(kProbe + probeBucket(e0), 1, fixed(change * change));
+    add(kProbesMarked, 0, 1);
+  }
+  /// Pixels marked as probes (the first round's selection)
+  void addProbesMarked(uint64_t n) { add(kProbesMarked, n, 0); }
+  /// Every probe marked has been recorded (its round was not cut short by a deadline)
+  bool probesComplete() const { return before_[kProbesMarked].load() == after_[kProbesMarked].load(); }
   /// The mean squared change of the probes whose estimate was in e0's bucket (an octave of e0; one bucket below
   /// 2^-12), or -1 when fewer than kProbeMinimum were.
   float probeMean(float e0) const {
@@ -121,7 +129,8 @@ class RefineMeasures {
  private:
   static constexpr std::size_t kLevels = kMaxLoosening + 2, kGrid = kLevels, kRays = 0, kTruncation = kLevels + 2;
   static constexpr std::size_t kProbe = kTruncation + kLevels, kProbeBuckets = 13;
-  static constexpr std::size_t kSlots = kProbe + kProbeBuckets;
+  static constexpr std::size_t kProbesMarked = kProbe + kProbeBuckets;  // marked (before_), recorded (after_)
+  static constexpr std::size_t kSlots = kProbesMarked + 1;
   static std::size_t probeBucket(float e0) {
     if (!(e0 > 0x1p-12f)) return 0;
     return std::size_t(std::clamp(std::floor(std::log2(e0)) + 13.0f, 1.0f, float(kProbeBuckets - 1)));

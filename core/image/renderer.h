@@ -29,7 +29,7 @@ struct FrameBuffer {
   std::vector<float> truncation, sampling;
   /// The calibrated sampling estimate (an RMS estimate, not a bound; see kCalibratedConfidence): from the two
   /// interleaved halves of a pixel's samples; for a one-sample pixel, sampling (the neighbour rule; with a
-  /// TargetError at least its probes' mean, see kProbeStride in image/refinement.h). 0 where not
+  /// TargetError its probes' bucket mean, see kProbeStride in image/refinement.h). 0 where not
   /// traced.
   std::vector<float> samplingRms;
   std::vector<uint16_t> samples;  ///< Camera samples taken per pixel.

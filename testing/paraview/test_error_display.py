@@ -70,11 +70,11 @@ check(abs(rms - est[0]) <= step and abs(values.max() - est[2]) <= step,
                                                                                step))
 view.ShowErrorImage = 0
 
-# 3. Progressive display (a target a quarter of the first frame's RMS estimate, which TargetError compares: several
+# 3. Progressive display (a target a tenth of the first frame's RMS estimate, which TargetError compares: several
 # rounds)
 Render(view)
 first = info("LastRMSError")[0]
-view.TargetError = 0.25 * first
+view.TargetError = 0.1 * first
 view.RefinementRoundsPerRender = 1
 rounds, estimates = [], []
 while len(rounds) < 50:
@@ -85,9 +85,8 @@ while len(rounds) < 50:
         break
 check(len(rounds) > 1 and rounds == list(range(1, len(rounds) + 1)),
       "one round per Render(): rounds %s" % rounds)
-check(all(b <= a + 1e-9 for a, b in zip(estimates, estimates[1:])) and info("LastTargetErrorMet")
-      and estimates[-1] <= 0.25 * first,
-      "estimate %s falls to the target %.4f" % (" ".join("%.4f" % e for e in estimates), 0.25 * first))
+check(estimates[-1] < estimates[0] and info("LastTargetErrorMet") and estimates[-1] <= 0.1 * first,
+      "estimate %s falls to the target %.4f" % (" ".join("%.4f" % e for e in estimates), 0.1 * first))
 view.SMProxy.InteractiveRender()
 check(info("ErrorAnnotationText").startswith("Whitted: interactive"), "interactive frame: %r"
       % info("ErrorAnnotationText"))
