@@ -4,8 +4,9 @@ A Whitted view with a Target Error and/or a Time Budget in the GUI's layout: onc
 (1.5 s after its first frame), a fresh still frame (the script's Target Error and Time Budget set then; from a
 state file, a camera nudge; for toolbar and shell, the playback's camera drag) and one Render(); the view must
 render again by itself (its timer on the Qt interactor), one refinement round per frame, the annotation showing
-"refining" with growing samples per pixel and a falling estimate (below its first value at the end and never
-above it; not frame by frame: new samples can reveal variance) and "<seconds> of <budget> s" with a budget, until a frame reports the end:
+"refining" with a falling estimate (below its first value at the end and never above it; not frame by frame: new
+samples can reveal variance; samples per pixel grow, or a truncation round traces them again deeper) and
+"<seconds> of <budget> s" with a budget, until a frame reports the end:
 the target met, or (a budget without target) the whole budget spent or nothing left to refine (the annotation says
 which); then it must stop rendering. The script
 exits the GUI with 0 when that was seen, 1 when a frame went wrong or nothing happened for 90 s.
@@ -102,7 +103,6 @@ def on_frame(obj, event):
             series.append(t)
     refining = [t for t in series if "refining" in t]
     errors = [number(r"error ([0-9.]+)", t) for t in series]
-    spp = [number(r"([0-9.]+) spp", t) for t in series]
     problems = []
     # The view rendered again by itself: the script asked for one still frame, so a series of two or more (one
     # refining, then the end) came from the view's own timer (on the code of issue 28 the series stopped at its
@@ -111,13 +111,12 @@ def on_frame(obj, event):
     if not refining or len(series) < 2:
         problems.append("the view did not render again by itself: %d frames, %d refining" % (len(series),
                                                                                              len(refining)))
-    # Every round adds samples (or, a truncation round, deepens the depth with none lost): samples per pixel
-    # never fall and grow over the series. The calibrated estimate falls over the series: it ends below where it
-    # started and never goes above it. Not frame by frame: a round's new samples may reveal variance its pixels'
-    # first samples hid (seen in CI: 0.0009 -> 0.0011 at 13 spp, the annotation's 4 decimals making it look 22%),
-    # and how many rounds a frame shows depends on timing
-    if any(b < a for a, b in zip(spp, spp[1:])) or spp[-1] <= spp[0]:
-        problems.append("samples per pixel did not grow round by round: %s" % spp)
+    # Every round adds samples or, a truncation round, traces its pixels' samples again at a deeper depth, so
+    # samples per pixel need not grow over the frames shown (seen in CI: 3.75 spp in both frames of a series whose
+    # target the second met; a fall starts a new series above). The calibrated estimate falls over the series: it
+    # ends below where it started and never goes above it. Not frame by frame: a round's new samples may reveal
+    # variance its pixels' first samples hid (seen in CI: 0.0009 -> 0.0011 at 13 spp, the annotation's 4 decimals
+    # making it look 22%), and how many rounds a frame shows depends on timing
     if errors[-1] >= errors[0] or any(e > errors[0] for e in errors[1:]):
         problems.append("the estimate did not fall: %s" % errors)
     if TARGET > 0 and ("target %g met" % TARGET) not in text:
