@@ -50,6 +50,10 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
       const double rv = std::max(0.0, glm::dot(r, v));
       return rv > 0.0 || !(m.specularPower > 0.0f) ? att * std::pow(rv, double(m.specularPower)) : att * 0.0;
     };
+    // This light's diffuse and specular terms unshadowed (what a shadow ray's truncation is charged against)
+    auto unshadowed = [&]() {
+      return float(df) * lc * dif + (wantSpecular ? float(specularFactor()) * lc * spe : Color(0.0f));
+    };
 
     if constexpr (Shadows) {
       if (light.castShadows) {
@@ -67,8 +71,7 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
         if (stepError > 0.0f) {
           // What this light's diffuse and specular terms would change by with the volumes' transmittance off by
           // stepError
-          const Color full = float(df) * lc * dif + (wantSpecular ? float(specularFactor()) * lc * spe : Color(0.0f));
-          shadowCut += stepError * maxComponent(full);
+          shadowCut += stepError * maxComponent(unshadowed());
         }
         if (maxComponent(t) <= 0.0f) {
           // Cut by the threshold, the transmittance was below it in every channel: at most that share of this
@@ -76,7 +79,7 @@ Color Integrator::shadeLocal(const SurfacePoint& sp, const Material& m, const Ve
           // the threshold (a bound ray): exactly the transmittance share is missing, 0 if something opaque lies
           // beyond.
           if (cut) {
-            const Color full = float(df) * lc * dif + (wantSpecular ? float(specularFactor()) * lc * spe : Color(0.0f));
+            const Color full = unshadowed();
             if (s_.truncationLookahead > 0) {
               ++st.boundRays;
               shadowCut += maxComponent(
