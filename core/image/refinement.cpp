@@ -4,7 +4,7 @@
 // refinement measures to steer by: image/refinement.h.
 #include "image/refinement.h"
 
-#include "image/error_estimate.h"  // calibratedTotal
+#include "image/error_estimate.h"  // calibratedTotal, samplingEstimate
 #include "image/frame_job.h"
 
 #include <algorithm>
@@ -127,6 +127,31 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
       share[std::size_t(l + 1)] = measures_.truncationShare(l);
     }
     for (int c = 0; c < 2; ++c) gridGrowth[std::size_t(c)] = measures_.gridGrowth(c == 1);
+    // What a several-sample pixel's variance is ranked by. With a TargetError: its calibrated estimate, the figure
+    // the target is compared with (refining where it is high makes it fall soonest). With only a time budget, the
+    // aim is the least true error, and the calibrated estimate (a half difference: one degree of freedom, pooled
+    // over 3 x 3 pixels) is noisy: picking by it leaves the pixels whose estimate came out low by chance. They are
+    // ranked by the larger of it and the variance of the mean of the pixel's samples taken as independent (n - 1
+    // degrees of freedom; an overstatement for stratified samples), scaled by the image's ratio of the two.
+    // Measured (data/benchmark/progressive, ten scenes, medians of five passes): at 6x and 12x the default frame's
+    // time the RMSE is 0.89x / 0.83x on classic, 0.92x / 0.90x on glassmirror, 0.97x / 0.88x on iso1m, 0.97x in the
+    // geometric mean; with a TargetError the same rule left the estimate 1.33x the measured error at the stop
+    // (median of the target study), against 1.25x, so it is not used there.
+    auto independentVariance = [&](std::size_t i) {
+      const PixelSums& ps = acc_[i];
+      const float e = 0.5f * samplingEstimate(ps.sum, ps.sum2, ps.n);  // (its two standard errors)
+      return e * e;
+    };
+    float independentScale = 0.0f;  // 0: rank by the calibrated estimate alone
+    if (!(s_.targetError > 0.0) && s_.budgetRanksBySpread) {
+      double calibrated = 0.0, independent = 0.0;
+      for (std::size_t i = 0; i < acc_.size(); ++i)
+        if (fb_.traced[i] && acc_[i].n >= 2) {
+          calibrated += double(fb_.samplingRms[i]) * fb_.samplingRms[i];
+          independent += independentVariance(i);
+        }
+      if (independent > 0.0) independentScale = float(std::min(1.0, calibrated / independent));
+    }
     struct Choice {
       float gainPerRay = 0.0f, rays = 0.0f;
       uint8_t action = kKeep;
@@ -137,7 +162,9 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
       // The truncation bound scaled by the share of it that loosening changed so far at this level
       const float t = fb_.truncation[i] * share[std::size_t(ps.level + 1)], smp = fb_.sampling[i];
       const float floor = single(i) ? float(kMinimumVariance * s_.targetError * s_.targetError) : 0.0f;
-      const float variance = std::max(floor, fb_.samplingRms[i] * fb_.samplingRms[i]);
+      float variance = std::max(floor, fb_.samplingRms[i] * fb_.samplingRms[i]);
+      if (independentScale > 0.0f && ps.n >= 2)
+        variance = std::max(variance, independentScale * independentVariance(i));
       const float raysPerSample = std::max(1.0f, float(ps.rays)) / float(ps.n);
       Choice c;
       if (canSample(i)) {

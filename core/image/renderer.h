@@ -116,8 +116,9 @@ struct RenderSettings {
   /// samples at the next loosening level (maxDepth doubled, at least +2, up to 64; contribution threshold / 16;
   /// the volumes' step halved; at most kMaxLoosening levels). Each way's gain is the drop of the pixel's squared
   /// estimate (truncation part + calibrated sampling estimate, FrameBuffer::samplingRms, in quadrature; a
-  /// one-sample pixel's at least twice
-  /// the target, see kMinimumVariance), its cost the rays it takes (the pixel's rays per sample so far; for a
+  /// one-sample pixel's at least twice the target, see kMinimumVariance; with a timeBudget and no target, a
+  /// several-sample pixel's sampling part at least its samples' spread scaled to the image's calibrated
+  /// estimate, see budgetRanksBySpread), its cost the rays it takes (the pixel's rays per sample so far; for a
   /// grid or a looser level times the growth measured on the pixels refined so far); the truncation part is the
   /// bound scaled by the share of it that loosening actually changed on the pixels loosened so far from that
   /// level (the bound is an upper bound, up to 40x the measured truncation on glass; the truncation part reported
@@ -144,6 +145,10 @@ struct RenderSettings {
   /// start tile slot abortAfterTiles of a pass that checks for aborts: exactly slots 0..abortAfterTiles-1 are
   /// traced, for any thread count and however the threads are scheduled. -1 (the default): never.
   long long abortAfterTiles = -1;
+  /// Testing: with a time budget and no target, refinement ranks a several-sample pixel by the larger of its
+  /// calibrated estimate and its samples' spread (see FrameJob::refine); false ranks by the calibrated estimate
+  /// alone, as with a TargetError (tests compare the two). Default true.
+  bool budgetRanksBySpread = true;
 };
 
 struct FrameStats {
