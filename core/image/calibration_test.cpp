@@ -163,8 +163,8 @@ TEST(Calibration, ProbesRateTheOneSamplePixels) {
 // and its samples' spread (FrameJob::refine): the calibrated estimate alone, a noisy half difference, leaves the
 // pixels whose estimate came out low by chance. Classic scene, 96x72, 4, 6 and 8 rounds of one call (a budget of an
 // hour: round sizes go by rays, not time): the measured RMS against the reference, scaled to equal rays (error ~
-// rays^-1/2), is under 0.97x that of ranking by the calibrated estimate alone (measured: 0.906, 0.954, 0.925; the
-// fence scene 0.979, 0.998, 0.974, the benchmark's ten scenes 4% in the geometric mean, data/benchmark/progressive).
+// rays^-1/2), is under 0.97x that of ranking by the calibrated estimate alone (measured: 0.896, 0.918, 0.912; the
+// benchmark's ten scenes: data/benchmark/progressive).
 TEST(Calibration, BudgetRefinementRanksBySamplesSpread) {
   Study st([](Scene& s, CameraSpec& c) { buildClassicScene(s, c); }, 96, 72);
   for (int rounds : {4, 6, 8}) {

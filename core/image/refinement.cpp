@@ -132,26 +132,20 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
     // aim is the least true error, and the calibrated estimate (a half difference: one degree of freedom, pooled
     // over 3 x 3 pixels) is noisy: picking by it leaves the pixels whose estimate came out low by chance. They are
     // ranked by the larger of it and the variance of the mean of the pixel's samples taken as independent (n - 1
-    // degrees of freedom; an overstatement for stratified samples), scaled by the image's ratio of the two.
-    // Measured (data/benchmark/progressive, ten scenes, medians of five passes): at 6x and 12x the default frame's
-    // time the RMSE is 0.89x / 0.83x on classic, 0.92x / 0.90x on glassmirror, 0.97x / 0.88x on iso1m, 0.97x in the
-    // geometric mean; with a TargetError the same rule left the estimate 1.33x the measured error at the stop
-    // (median of the target study), against 1.25x, so it is not used there.
+    // degrees of freedom; an overstatement for stratified samples) times the image's ratio of the two sums; then
+    // all scaled so that they sum to the calibrated estimates' sum (the sampling part keeps its weight against the
+    // truncation part: unscaled, the larger of two figures favoured samples over a looser depth, 1.04-1.05x the
+    // error at 12x on mirrors and fence). Measured: data/benchmark/progressive and
+    // Calibration.BudgetRefinementRanksBySamplesSpread; with a TargetError the same rule left the estimate 1.33x the
+    // measured error at the stop (median of the target study) against 1.25x, so it is not used there.
     auto independentVariance = [&](std::size_t i) {
       const PixelSums& ps = acc_[i];
       const float e = 0.5f * samplingEstimate(ps.sum, ps.sum2, ps.n);  // (its two standard errors)
       return e * e;
     };
-    float independentScale = 0.0f;  // 0: rank by the calibrated estimate alone
-    if (!(s_.targetError > 0.0) && s_.budgetRanksBySpread) {
-      double calibrated = 0.0, independent = 0.0;
-      for (std::size_t i = 0; i < acc_.size(); ++i)
-        if (fb_.traced[i] && acc_[i].n >= 2) {
-          calibrated += double(fb_.samplingRms[i]) * fb_.samplingRms[i];
-          independent += independentVariance(i);
-        }
-      if (independent > 0.0) independentScale = float(std::min(1.0, calibrated / independent));
-    }
+    const bool bySpread = !(s_.targetError > 0.0) && s_.budgetRanksBySpread;
+    // Per pixel in bySpread's ranking: rank[i] = rankScale * max(calibrated^2, independentScale * independent)
+    float independentScale = 0.0f, rankScale = 1.0f;  // (set below, before choose is called)
     struct Choice {
       float gainPerRay = 0.0f, rays = 0.0f;
       uint8_t action = kKeep;
@@ -164,7 +158,7 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
       const float floor = single(i) ? float(kMinimumVariance * s_.targetError * s_.targetError) : 0.0f;
       float variance = std::max(floor, fb_.samplingRms[i] * fb_.samplingRms[i]);
       if (independentScale > 0.0f && ps.n >= 2)
-        variance = std::max(variance, independentScale * independentVariance(i));
+        variance = rankScale * std::max(variance, independentScale * independentVariance(i));
       const float raysPerSample = std::max(1.0f, float(ps.rays)) / float(ps.n);
       Choice c;
       if (canSample(i)) {
@@ -194,8 +188,25 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
     // The round's size in rays: half the rays of the image so far (rounds grow geometrically, so their
     // re-estimates cost little), with a budget at most what the time left can trace (at the rate so far), all
     // of it if a round that size would leave less than half a round
-    double imageRays = 0.0;
-    for (const PixelSums& ps : acc_) imageRays += ps.rays;
+    // (one pass over the pixel sums, which are large: a second one cost a short budget's first round a few
+    // percent of its rays; the several-sample pixels' two figures are kept for the ranking's scale)
+    double imageRays = 0.0, calibratedSum = 0.0, independentSum = 0.0;
+    std::vector<std::pair<float, float>> figures;  // (calibrated^2, independent) of the several-sample pixels
+    for (std::size_t i = 0; i < acc_.size(); ++i) {
+      imageRays += acc_[i].rays;
+      if (bySpread && acc_[i].n >= 2 && fb_.traced[i]) {
+        figures.emplace_back(fb_.samplingRms[i] * fb_.samplingRms[i], independentVariance(i));
+        calibratedSum += double(figures.back().first);
+        independentSum += double(figures.back().second);
+      }
+    }
+    if (calibratedSum > 0.0 && independentSum > 0.0) {
+      independentScale = float(std::min(1.0, calibratedSum / independentSum));
+      double rankSum = 0.0;
+      for (const auto& [calibrated, independent] : figures)
+        rankSum += double(std::max(calibrated, independentScale * independent));
+      rankScale = float(calibratedSum / rankSum);
+    }
     double roundRays = kRoundShare * imageRays;
     if (tiles_.deadline()) {
       RayStats traced;
