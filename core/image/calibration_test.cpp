@@ -163,8 +163,9 @@ TEST(Calibration, ProbesRateTheOneSamplePixels) {
 // and its samples' spread (FrameJob::refine): the calibrated estimate alone, a noisy half difference, leaves the
 // pixels whose estimate came out low by chance. Classic scene, 96x72, 4, 6 and 8 rounds of one call (a budget of an
 // hour: round sizes go by rays, not time): the measured RMS against the reference, scaled to equal rays (error ~
-// rays^-1/2), is under 0.97x that of ranking by the calibrated estimate alone (measured: 0.896, 0.918, 0.912; the
-// benchmark's ten scenes: data/benchmark/progressive).
+// rays^-1/2), is under 0.94x that of ranking by the calibrated estimate alone (measured: 0.896, 0.918, 0.912; the
+// benchmark's ten scenes: data/benchmark/progressive). Negative controls: the larger of the two figures without the
+// rescaling to the calibrated sum measured 0.906, 0.954, 0.925 (fails at 6 rounds); the rule off, 1.
 TEST(Calibration, BudgetRefinementRanksBySamplesSpread) {
   Study st([](Scene& s, CameraSpec& c) { buildClassicScene(s, c); }, 96, 72);
   for (int rounds : {4, 6, 8}) {
@@ -186,6 +187,7 @@ TEST(Calibration, BudgetRefinementRanksBySamplesSpread) {
     std::printf("classic, %d rounds: calibrated estimate alone %.5f (%.0f rays), with the spread %.5f (%.0f rays): "
                 "x%.3f at equal rays\n",
                 rounds, measured[0], rays[0], measured[1], rays[1], ratio);
-    EXPECT_LT(ratio, 0.97) << rounds << " rounds";
+    EXPECT_LT(ratio, 0.94) << rounds << " rounds";
   }
 }
+

@@ -132,10 +132,10 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
     // aim is the least true error, and the calibrated estimate (a half difference: one degree of freedom, pooled
     // over 3 x 3 pixels) is noisy: picking by it leaves the pixels whose estimate came out low by chance. They are
     // ranked by the larger of it and the variance of the mean of the pixel's samples taken as independent (n - 1
-    // degrees of freedom; an overstatement for stratified samples) times the image's ratio of the two sums; then
-    // all scaled so that they sum to the calibrated estimates' sum (the sampling part keeps its weight against the
-    // truncation part: unscaled, the larger of two figures favoured samples over a looser depth, 1.04-1.05x the
-    // error at 12x on mirrors and fence). Measured: data/benchmark/progressive and
+    // degrees of freedom; an overstatement for stratified samples) times the image's ratio of the two sums (at most
+    // 1); then all scaled so that they sum to the calibrated estimates' sum (the sampling part keeps its weight
+    // against the truncation part: unscaled, the larger of two figures favoured samples over a looser depth,
+    // 1.04-1.05x the error at 12x on mirrors and fence). Measured: data/benchmark/progressive and
     // Calibration.BudgetRefinementRanksBySamplesSpread; with a TargetError the same rule left the estimate 1.33x the
     // measured error at the stop (median of the target study) against 1.25x, so it is not used there.
     auto independentVariance = [&](std::size_t i) {

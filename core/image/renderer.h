@@ -117,8 +117,8 @@ struct RenderSettings {
   /// the volumes' step halved; at most kMaxLoosening levels). Each way's gain is the drop of the pixel's squared
   /// estimate (truncation part + calibrated sampling estimate, FrameBuffer::samplingRms, in quadrature; a
   /// one-sample pixel's at least twice the target, see kMinimumVariance; with a timeBudget and no target, a
-  /// several-sample pixel's sampling part at least its samples' spread scaled to the image's calibrated
-  /// estimate, see budgetRanksBySpread), its cost the rays it takes (the pixel's rays per sample so far; for a
+  /// several-sample pixel's squared sampling part is the larger of that and its samples' spread, rescaled so the
+  /// several-sample pixels' sum is unchanged, see budgetRanksBySpread), its cost the rays it takes (the pixel's rays per sample so far; for a
   /// grid or a looser level times the growth measured on the pixels refined so far); the truncation part is the
   /// bound scaled by the share of it that loosening actually changed on the pixels loosened so far from that
   /// level (the bound is an upper bound, up to 40x the measured truncation on glass; the truncation part reported
@@ -146,8 +146,9 @@ struct RenderSettings {
   /// traced, for any thread count and however the threads are scheduled. -1 (the default): never.
   long long abortAfterTiles = -1;
   /// Testing: with a time budget and no target, refinement ranks a several-sample pixel by the larger of its
-  /// calibrated estimate and its samples' spread (see FrameJob::refine); false ranks by the calibrated estimate
-  /// alone, as with a TargetError (tests compare the two). Default true.
+  /// squared calibrated estimate and its samples' variance of the mean (times the image's ratio of the two sums,
+  /// at most 1), all rescaled to the calibrated estimates' sum (see FrameJob::refine); false ranks by the
+  /// calibrated estimate alone, as with a TargetError (tests compare the two). Default true.
   bool budgetRanksBySpread = true;
 };
 
