@@ -137,7 +137,8 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
     // against the truncation part: unscaled, the larger of two figures favoured samples over a looser depth,
     // 1.04-1.05x the error at 12x on mirrors and fence). Measured: data/benchmark/progressive and
     // Calibration.BudgetRefinementRanksBySamplesSpread; with a TargetError the same rule left the estimate 1.33x the
-    // measured error at the stop (median of the target study) against 1.25x, so it is not used there.
+    // measured error at the stop (median of the target study) against 1.25x, so it is not used there. The sums are
+    // this process's pixels' (RenderSettings::tileStride), as the round's size is.
     auto independentVariance = [&](std::size_t i) {
       const PixelSums& ps = acc_[i];
       const float e = 0.5f * samplingEstimate(ps.sum, ps.sum2, ps.n);  // (its two standard errors)
