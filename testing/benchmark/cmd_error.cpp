@@ -91,21 +91,9 @@ int cmdError(const Args& a) {
   FrameStats refFs;
   Timing refT{};
   const std::string refCache = a.str("ref-cache");
-  bool cached = false;
-  if (!refCache.empty()) {
-    if (FILE* fp = std::fopen(refCache.c_str(), "rb")) {
-      refFb.resize(w, h);
-      cached = std::fread(refFb.color.data(), sizeof(Color4), refFb.color.size(), fp) == refFb.color.size();
-      std::fclose(fp);
-    }
-  }
-  if (!cached) {
+  if (!readColorCache(refCache, w, h, refFb)) {
     refT = renderTimed(ref, refFb, refFs, 0, 1);
-    if (!refCache.empty())
-      if (FILE* fp = std::fopen(refCache.c_str(), "wb")) {
-        std::fwrite(refFb.color.data(), sizeof(Color4), refFb.color.size(), fp);
-        std::fclose(fp);
-      }
+    writeColorCache(refCache, refFb);
   }
   savePng(pngDir.empty() ? "" : pngDir + "/" + bs.name + "_reference.png", refFb);
   csv.row({bs.name,

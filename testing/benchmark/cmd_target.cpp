@@ -68,20 +68,9 @@ int cmdTarget(const Args& a) {
   // written there (nestedglass's truth takes tens of minutes)
   FrameBuffer truth;
   const std::string truthCache = a.str("truth-cache");
-  bool cached = false;
-  if (!truthCache.empty())
-    if (FILE* fp = std::fopen(truthCache.c_str(), "rb")) {
-      truth.resize(w, h);
-      cached = std::fread(truth.color.data(), sizeof(Color4), truth.color.size(), fp) == truth.color.size();
-      std::fclose(fp);
-    }
-  if (!cached) {
+  if (!readColorCache(truthCache, w, h, truth)) {
     truth = renderTruth(bs, cam, w, h, factor, truthSpp, truthDepth);
-    if (!truthCache.empty())
-      if (FILE* fp = std::fopen(truthCache.c_str(), "wb")) {
-        std::fwrite(truth.color.data(), sizeof(Color4), truth.color.size(), fp);
-        std::fclose(fp);
-      }
+    writeColorCache(truthCache, truth);
   }
   CsvWriter csv(a.str("csv"), {"scene", "width", "height", "target", "met", "measured_below", "reported_rms",
                                "bound_rms", "measured_rms", "ratio", "spp", "seconds", "oracle_seconds", "rounds",

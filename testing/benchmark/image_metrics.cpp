@@ -144,4 +144,22 @@ bool readPng(const std::string& path, FrameBuffer& fb, std::string& error) {
   return true;
 }
 
+bool readColorCache(const std::string& path, int w, int h, FrameBuffer& fb) {
+  if (path.empty()) return false;
+  FILE* fp = std::fopen(path.c_str(), "rb");
+  if (!fp) return false;
+  fb.resize(w, h);
+  const bool whole = std::fread(fb.color.data(), sizeof(Color4), fb.color.size(), fp) == fb.color.size();
+  std::fclose(fp);
+  return whole;
+}
+
+void writeColorCache(const std::string& path, const FrameBuffer& fb) {
+  if (path.empty()) return;
+  if (FILE* fp = std::fopen(path.c_str(), "wb")) {
+    std::fwrite(fb.color.data(), sizeof(Color4), fb.color.size(), fp);
+    std::fclose(fp);
+  }
+}
+
 }  // namespace whitted::bench

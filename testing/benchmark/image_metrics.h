@@ -31,4 +31,10 @@ ImageError compareImages(const FrameBuffer& img, const FrameBuffer& ref);
 /// top like a rendered frame. Returns false with a message on failure.
 bool readPng(const std::string& path, FrameBuffer& fb, std::string& error);
 
+/// A reference image's colours cached as raw floats (references take minutes to render): readColorCache resizes fb
+/// to w x h and returns true if path holds a whole image of that size (the caller keeps a file to one scene and set
+/// of settings); writeColorCache writes fb's colours there. An empty path reads nothing and writes nothing.
+bool readColorCache(const std::string& path, int w, int h, FrameBuffer& fb);
+void writeColorCache(const std::string& path, const FrameBuffer& fb);
+
 }  // namespace whitted::bench
