@@ -75,8 +75,9 @@ void FrameJob::estimateErrors(FrameStats& fs, bool evenIfAborted) {
 // noisy estimate of the variance of one sample there, n (A - B)^2 nA nB / n^2; a pixel takes the mean of those of
 // its traced several-sample neighbours (itself included) over its own n. A box filter keeps the image's sum of
 // variances at equal sample counts, so the RMS stays unbiased, and refinement, which picks pixels by this estimate
-// (with only a time budget, by the larger of it and the samples' spread: FrameJob::refine), no longer picks the pixels whose own difference came out large by chance (and leaves those whose came out small):
-// that choice alone made the refined image's estimate fall below its measured error.
+// (with only a time budget, by the larger of it and the samples' spread: FrameJob::refine), no longer picks the
+// pixels whose own difference came out large by chance (and leaves those whose came out small): that choice alone
+// made the refined image's estimate fall below its measured error.
 void FrameJob::poolCalibrated() {
   const std::size_t size = std::size_t(w_) * h_;
   std::vector<float> perSample(size, -1.0f);  // -1: no estimate (not traced, or one sample)

@@ -145,8 +145,28 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
       return e * e;
     };
     const bool bySpread = !(s_.targetError > 0.0) && s_.budgetRanksBySpread;
-    // Per pixel in bySpread's ranking: rank[i] = rankScale * max(calibrated^2, independentScale * independent)
-    float independentScale = 0.0f, rankScale = 1.0f;  // (set below, before choose is called)
+    // Per pixel in bySpread's ranking: rank[i] = rankScale * max(calibrated^2, independentScale * independent).
+    // One pass over the pixel sums, which are large, also sums the image's rays for the round's size (a second
+    // pass cost a short budget's first round a few percent of its rays); the several-sample pixels' two figures
+    // are kept for the scale.
+    double imageRays = 0.0, calibratedSum = 0.0, independentSum = 0.0;
+    std::vector<std::pair<float, float>> figures;  // (calibrated^2, independent) of the several-sample pixels
+    for (std::size_t i = 0; i < acc_.size(); ++i) {
+      imageRays += acc_[i].rays;
+      if (bySpread && acc_[i].n >= 2 && fb_.traced[i]) {
+        figures.emplace_back(fb_.samplingRms[i] * fb_.samplingRms[i], independentVariance(i));
+        calibratedSum += double(figures.back().first);
+        independentSum += double(figures.back().second);
+      }
+    }
+    float independentScale = 0.0f, rankScale = 1.0f;  // (0: rank by the calibrated estimate alone)
+    if (calibratedSum > 0.0 && independentSum > 0.0) {
+      independentScale = float(std::min(1.0, calibratedSum / independentSum));
+      double rankSum = 0.0;
+      for (const auto& [calibrated, independent] : figures)
+        rankSum += double(std::max(calibrated, independentScale * independent));
+      rankScale = float(calibratedSum / rankSum);
+    }
     struct Choice {
       float gainPerRay = 0.0f, rays = 0.0f;
       uint8_t action = kKeep;
@@ -189,25 +209,6 @@ void FrameJob::refine(std::chrono::steady_clock::time_point start, double before
     // The round's size in rays: half the rays of the image so far (rounds grow geometrically, so their
     // re-estimates cost little), with a budget at most what the time left can trace (at the rate so far), all
     // of it if a round that size would leave less than half a round
-    // (one pass over the pixel sums, which are large: a second one cost a short budget's first round a few
-    // percent of its rays; the several-sample pixels' two figures are kept for the ranking's scale)
-    double imageRays = 0.0, calibratedSum = 0.0, independentSum = 0.0;
-    std::vector<std::pair<float, float>> figures;  // (calibrated^2, independent) of the several-sample pixels
-    for (std::size_t i = 0; i < acc_.size(); ++i) {
-      imageRays += acc_[i].rays;
-      if (bySpread && acc_[i].n >= 2 && fb_.traced[i]) {
-        figures.emplace_back(fb_.samplingRms[i] * fb_.samplingRms[i], independentVariance(i));
-        calibratedSum += double(figures.back().first);
-        independentSum += double(figures.back().second);
-      }
-    }
-    if (calibratedSum > 0.0 && independentSum > 0.0) {
-      independentScale = float(std::min(1.0, calibratedSum / independentSum));
-      double rankSum = 0.0;
-      for (const auto& [calibrated, independent] : figures)
-        rankSum += double(std::max(calibrated, independentScale * independent));
-      rankScale = float(calibratedSum / rankSum);
-    }
     double roundRays = kRoundShare * imageRays;
     if (tiles_.deadline()) {
       RayStats traced;

@@ -107,8 +107,8 @@ struct RenderSettings {
   /// estimate (FrameStats::calibrated.rms, not the bound total) is at most targetError, after at least one round
   /// while one-sample pixels are left (the first round grids a fixed sample of them, the probes, which rate the
   /// rest: kProbeStride in image/refinement.h; a first pass under the target instead gives every one-sample pixel
-  /// its 2x2 grid; with maxProgressiveSamples >= 4), the frame has taken timeBudget seconds, or no pixel can be refined. Either at 0 (the default) leaves it out;
-  /// both 0: no refinement. A pixel can get more samples (a
+  /// its 2x2 grid; with maxProgressiveSamples >= 4), the frame has taken timeBudget seconds, or no pixel can be
+  /// refined. Either at 0 (the default) leaves it out; both 0: no refinement. A pixel can get more samples (a
   /// pixel with only its centre sample a jittered 2x2 grid instead, as adaptive sampling does, traced at the
   /// coarse level -- contribution threshold x 16, at most 64/255, never below the frame's -- when its sampling
   /// estimate is over 4x its truncation part; any other pixel twice its samples at its level, continuing a
@@ -118,14 +118,15 @@ struct RenderSettings {
   /// estimate (truncation part + calibrated sampling estimate, FrameBuffer::samplingRms, in quadrature; a
   /// one-sample pixel's at least twice the target, see kMinimumVariance; with a timeBudget and no target, a
   /// several-sample pixel's squared sampling part is the larger of that and its samples' spread, rescaled so the
-  /// several-sample pixels' sum is unchanged, see budgetRanksBySpread), its cost the rays it takes (the pixel's rays per sample so far; for a
-  /// grid or a looser level times the growth measured on the pixels refined so far); the truncation part is the
-  /// bound scaled by the share of it that loosening actually changed on the pixels loosened so far from that
-  /// level (the bound is an upper bound, up to 40x the measured truncation on glass; the truncation part reported
-  /// stays the bound). Each pixel takes its better way; a round takes the pixels with the most gain per ray (only
-  /// those above half the target, and one-sample pixels) up to half the rays of the image so far (near the target
-  /// fewer: an expected drop kNeedMargin x what the target still needs), with a timeBudget at most what the time
-  /// left can trace at the rate so far (the whole rest when less than 1.5 rounds are left).
+  /// several-sample pixels' sum is unchanged, see budgetRanksBySpread), its cost the rays it takes (the pixel's
+  /// rays per sample so far; for a grid or a looser level times the growth measured on the pixels refined so
+  /// far); the truncation part is the bound scaled by the share of it that loosening actually changed on the
+  /// pixels loosened so far from that level (the bound is an upper bound, up to 40x the measured truncation on
+  /// glass; the truncation part reported stays the bound). Each pixel takes its better way; a round takes the
+  /// pixels with the most gain per ray (only those above half the target, and one-sample pixels) up to half the
+  /// rays of the image so far (near the target fewer: an expected drop kNeedMargin x what the target still
+  /// needs), with a timeBudget at most what the time left can trace at the rate so far (the whole rest when less
+  /// than 1.5 rounds are left).
   double targetError = 0.0;
   double timeBudget = 0.0;          ///< Seconds for the whole frame; checked between tiles (overshoot <= one tile).
   int maxProgressiveSamples = 256;  ///< Most samples a pixel gets from refinement. Default 256.
