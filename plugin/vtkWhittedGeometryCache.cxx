@@ -248,7 +248,7 @@ const vtkWhittedGeometryCache::Geometry& vtkWhittedGeometryCache::Get(vtkMapper*
   }
 
   vtkWhittedPolyDataConverter::Primitives c;
-  vtkWhittedPolyDataConverter::Convert(poly, mapper, options, radiusScale(), c);
+  vtkWhittedPolyDataConverter::Convert(poly, mapper, options, radiusScale, c);
   ++converted;
   this->Keep(key, g, &c, hasTime, time); // the contents held until now, for a later hit
 

@@ -114,16 +114,16 @@ whitted::Texture vtkWhittedPolyDataConverter::ConvertImage(
 }
 
 //------------------------------------------------------------------------------
-void vtkWhittedPolyDataConverter::Convert(
-  vtkPolyData* poly, vtkMapper* mapper, const Options& o, double radiusScale, Primitives& out)
+void vtkWhittedPolyDataConverter::Convert(vtkPolyData* poly, vtkMapper* mapper, const Options& o,
+  const std::function<double()>& radiusScale, Primitives& out)
 {
   ConvertPrimitives(poly, mapper, o, radiusScale, out);
   Recentre(out);
 }
 
 //------------------------------------------------------------------------------
-void vtkWhittedPolyDataConverter::ConvertPrimitives(
-  vtkPolyData* poly, vtkMapper* mapper, const Options& o, double radiusScale, Primitives& out)
+void vtkWhittedPolyDataConverter::ConvertPrimitives(vtkPolyData* poly, vtkMapper* mapper,
+  const Options& o, const std::function<double()>& radiusScale, Primitives& out)
 {
   vtkPoints* points = poly->GetPoints();
   const vtkIdType np = points ? points->GetNumberOfPoints() : 0;
@@ -135,16 +135,27 @@ void vtkWhittedPolyDataConverter::ConvertPrimitives(
   issues.NumberOfPoints = np;
   const CellArrays cells(poly, issues.MalformedCellArrays);
 
-  // Non-finite points are left in (the core skips every primitive using one) but counted
+  // Non-finite points are left in (the core skips every primitive using one) but counted. The
+  // floats of a vtkFloatArray (VTK's default) are read directly, the values GetPoint gives
   vtkDataArray* coords = points->GetData();
+  vtkFloatArray* floatCoords = vtkFloatArray::FastDownCast(coords);
+  const float* floats =
+    floatCoords && floatCoords->GetNumberOfComponents() == 3 ? floatCoords->GetPointer(0) : nullptr;
   issues.NonFinitePoints += ForPieces(np,
-    [coords](vtkIdType b, vtkIdType e)
+    [coords, floats](vtkIdType b, vtkIdType e)
     {
       vtkIdType nonFinite = 0;
       for (vtkIdType i = b; i < e; ++i)
       {
         double x[3];
-        coords->GetTuple(i, x);
+        if (floats)
+        {
+          x[0] = floats[3 * i], x[1] = floats[3 * i + 1], x[2] = floats[3 * i + 2];
+        }
+        else
+        {
+          coords->GetTuple(i, x);
+        }
         nonFinite += !(std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]));
       }
       return nonFinite;
@@ -164,6 +175,7 @@ void vtkWhittedPolyDataConverter::ConvertPrimitives(
   }
 
   PrimitiveInput in{ poly, points, np, cells, colors, o, {}, {} };
+  in.FloatPoints = floats;
   // Per-point radii: Point Gaussian splats (radius 1 through the function without an array), or a
   // radius array when the points have it
   vtkDataArray* radii = PointArray(poly, o.RadiusArray);
@@ -178,11 +190,11 @@ void vtkWhittedPolyDataConverter::ConvertPrimitives(
     {
       in.Opacity = PointValues{ opacities, o.OpacityComponent, o.OpacityFunction, 1.0, true };
     }
-    AddSpheres(in, 0.0, out.Spheres, issues);
+    AddSpheres(in, [] { return 0.0; }, out.Spheres, issues);
     return; // splats only
   }
-  AddSpheres(in, o.PointSize * radiusScale, out.Spheres, issues);
-  AddTubes(in, o.LineWidth * radiusScale, out.Tubes, issues);
+  AddSpheres(in, [&] { return o.PointSize * radiusScale(); }, out.Spheres, issues);
+  AddTubes(in, [&] { return o.LineWidth * radiusScale(); }, out.Tubes, issues);
   if (o.Representation == VTK_SURFACE)
   {
     AddTriangles(in, out, issues);

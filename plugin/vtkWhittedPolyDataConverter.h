@@ -42,8 +42,9 @@
 #include "geometry/texture.h" // whitted::Texture
 #include "geometry/shapes.h"   // whitted::TriangleMesh, SphereSet, TubeSet
 
-#include <string> // for std::string
-#include <tuple>  // for std::tuple
+#include <functional> // for std::function
+#include <string>     // for std::string
+#include <tuple>      // for std::tuple
 
 class vtkDataArray;
 class vtkImageData;
@@ -142,10 +143,10 @@ public:
 
   /**
    * Converts poly as mapper draws it with the given options. radiusScale turns PointSize and
-   * LineWidth into world radii.
+   * LineWidth into world radii; called only when spheres or tubes come out (it reads every point).
    */
   static void Convert(vtkPolyData* poly, vtkMapper* mapper, const Options& options,
-    double radiusScale, Primitives& out);
+    const std::function<double()>& radiusScale, Primitives& out);
 
   /**
    * RGBA8 texture from image scalars: unsigned char with 1 to 4 components directly (luminance,
@@ -157,7 +158,7 @@ public:
 
 private:
   static void ConvertPrimitives(vtkPolyData* poly, vtkMapper* mapper, const Options& options,
-    double radiusScale, Primitives& out);
+    const std::function<double()>& radiusScale, Primitives& out);
   // Moves the primitives' coordinates to Primitives::Origin when the data lies far from its origin.
   static void Recentre(Primitives& out);
 };

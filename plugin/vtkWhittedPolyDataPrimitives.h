@@ -255,9 +255,16 @@ struct PrimitiveInput
   const vtkWhittedPolyDataConverter::Options& Opts;
   PointValues Radii;   ///< Per-point radii, when Radii.Active.
   PointValues Opacity; ///< Point Gaussian opacity array (alpha of mapped colours), when Active.
+  /// The points' floats when they are a vtkFloatArray (VTK's default): read directly, the values GetPoint gives.
+  const float* FloatPoints = nullptr;
 
   Vec3 Point(vtkIdType i) const
   {
+    if (this->FloatPoints)
+    {
+      const float* p = this->FloatPoints + 3 * i;
+      return Vec3(p[0], p[1], p[2]);
+    }
     double x[3];
     this->Points->GetPoint(i, x);
     return Vec3(x[0], x[1], x[2]);
@@ -283,15 +290,18 @@ void UniformRadius(double radius, Set& set, bool& noRadius)
 
 //------------------------------------------------------------------------------
 // Points as spheres: every vertex of a vertex cell, or in points representation every point any
-// cell uses (once). They need a positive finite radius (PointSize 0 or NaN gives none).
-void AddSpheres(const PrimitiveInput& in, double radius, whitted::SphereSet& spheres,
+// cell uses (once). They need a positive finite radius (PointSize 0 or NaN gives none); radius is
+// called once there are spheres without per-point radii.
+void AddSpheres(const PrimitiveInput& in, const std::function<double()>& radius,
+  whitted::SphereSet& spheres,
   vtkWhittedPolyDataConverter::Problems& issues);
 
 //------------------------------------------------------------------------------
 // Lines as tubes (tubes, so consecutive segments join seamlessly), and in wireframe
 // representation every polygon and strip edge once. They need a positive finite radius (LineWidth
-// 0 or NaN gives none).
-void AddTubes(const PrimitiveInput& in, double radius, whitted::TubeSet& tubes,
+// 0 or NaN gives none); radius is called once there are tubes without per-point radii.
+void AddTubes(const PrimitiveInput& in, const std::function<double()>& radius,
+  whitted::TubeSet& tubes,
   vtkWhittedPolyDataConverter::Problems& issues);
 
 //------------------------------------------------------------------------------

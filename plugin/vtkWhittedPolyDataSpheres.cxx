@@ -1,8 +1,8 @@
 #include "vtkWhittedPolyDataPrimitives.h"
 
 //------------------------------------------------------------------------------
-void vtkWhittedPolyData::AddSpheres(const PrimitiveInput& in, double radius,
-  whitted::SphereSet& spheres, vtkWhittedPolyDataConverter::Problems& issues)
+void vtkWhittedPolyData::AddSpheres(const PrimitiveInput& in,
+  const std::function<double()>& radius, whitted::SphereSet& spheres, vtkWhittedPolyDataConverter::Problems& issues)
 {
   const ColorSource& colors = in.Colors;
   auto addSphere = [&](vtkIdType pid, vtkIdType cell)
@@ -66,6 +66,6 @@ void vtkWhittedPolyData::AddSpheres(const PrimitiveInput& in, double radius,
   }
   if (!spheres.centers.empty() && !in.Radii.Active)
   {
-    UniformRadius(radius, spheres, issues.NoSphereRadius);
+    UniformRadius(radius(), spheres, issues.NoSphereRadius);
   }
 }

@@ -77,9 +77,60 @@ uint8_t PolygonEdges(vtkIdType a, vtkIdType b, vtkIdType c, vtkIdType n)
     (outline(a, b) ? 1 : 0) | (outline(b, c) ? 2 : 0) | (outline(c, a) ? 4 : 0));
 }
 
-void Triangulate(vtkPoints* points, const CellArrays& cells, TriangleList& out, vtkIdType& invalid)
+// Polygons that are all triangles (a contour, a triangulated surface: the common case) read straight from the
+// cell array's offsets and connectivity, on all cores: the triangles, cell ids and edge bits Triangulate's loop
+// gives them. False (out untouched) when some cell is not a triangle or names no point: that loop then runs.
+template <typename Id>
+bool TrianglesOnly(const Id* offsets, const Id* conn, vtkIdType nc, vtkIdType np, vtkIdType firstId,
+  TriangleList& out)
 {
-  const vtkIdType np = points->GetNumberOfPoints();
+  whitted::LargeVector<glm::uvec3> tris(static_cast<size_t>(nc));
+  std::vector<vtkIdType> ids(static_cast<size_t>(nc));
+  const vtkIdType bad = vtkWhittedPolyData::ForPieces(nc,
+    [&](vtkIdType b, vtkIdType e)
+    {
+      vtkIdType n = 0;
+      for (vtkIdType i = b; i < e; ++i)
+      {
+        const vtkIdType o = static_cast<vtkIdType>(offsets[i]);
+        const vtkIdType p0 = conn[o], p1 = conn[o + 1], p2 = conn[o + 2];
+        n += offsets[i + 1] - offsets[i] != 3 || p0 < 0 || p0 >= np || p1 < 0 || p1 >= np || p2 < 0 ||
+          p2 >= np;
+        tris[i] = glm::uvec3(p0, p1, p2);
+        ids[i] = firstId + i;
+      }
+      return n;
+    });
+  if (bad != 0)
+  {
+    return false;
+  }
+  out.Tris = std::move(tris);
+  out.Cells = std::move(ids);
+  out.Edges.assign(static_cast<size_t>(nc), 7); // PolygonEdges(0, 1, 2, 3): all three
+  return true;
+}
+
+bool TrianglesOnly(const CellArrays& cells, vtkIdType np, TriangleList& out)
+{
+  vtkCellArray* ca = cells.Arrays[CellArrays::Polys];
+  const vtkIdType nc = ca->GetNumberOfCells();
+  if (nc == 0 || ca->GetNumberOfConnectivityIds() != 3 * nc)
+  {
+    return false;
+  }
+  const vtkIdType first = cells.FirstId[CellArrays::Polys];
+  return ca->IsStorage64Bit()
+    ? TrianglesOnly(ca->GetOffsetsArray64()->GetPointer(0), ca->GetConnectivityArray64()->GetPointer(0), nc,
+        np, first, out)
+    : TrianglesOnly(ca->GetOffsetsArray32()->GetPointer(0), ca->GetConnectivityArray32()->GetPointer(0), nc,
+        np, first, out);
+}
+
+// Triangulate's polygons cell by cell (any cell sizes; cells naming no point skipped and counted).
+void AddPolygons(
+  vtkPoints* points, const CellArrays& cells, vtkIdType np, TriangleList& out, vtkIdType& invalid)
+{
   vtkNew<vtkPolygon> polygon;
   vtkNew<vtkIdList> tris;
   // At least a triangle per polygon (exactly one for a triangle mesh): no regrowth
@@ -122,6 +173,15 @@ void Triangulate(vtkPoints* points, const CellArrays& cells, TriangleList& out, 
         }
       }
     });
+}
+
+void Triangulate(vtkPoints* points, const CellArrays& cells, TriangleList& out, vtkIdType& invalid)
+{
+  const vtkIdType np = points->GetNumberOfPoints();
+  if (!TrianglesOnly(cells, np, out))
+  {
+    AddPolygons(points, cells, np, out, invalid);
+  }
 
   // Strips: alternate winding as OpenGL does; VTK draws every edge of a strip's triangles
   cells.ForEachValidCell(CellArrays::Strips, np, invalid,
@@ -177,11 +237,20 @@ void ChooseNormals(const PrimitiveInput& in, vtkDataArray*& pointNormals,
 //------------------------------------------------------------------------------
 // A normal of a normals array as the core takes it. Bad vectors (NaN, infinite, zero) are left to
 // the core, which falls back to the facet normal, but counted.
-Vec3f NormalAt(vtkDataArray* normals, vtkIdType i, vtkIdType& bad)
+// floats: the array's values when it is a vtkFloatArray (read directly: the floats GetTuple gives).
+Vec3f NormalAt(vtkDataArray* normals, const float* floats, vtkIdType i, vtkIdType& bad)
 {
-  double n[3];
-  normals->GetTuple(i, n);
-  const Vec3f v(static_cast<float>(n[0]), static_cast<float>(n[1]), static_cast<float>(n[2]));
+  Vec3f v;
+  if (floats)
+  {
+    v = Vec3f(floats[3 * i], floats[3 * i + 1], floats[3 * i + 2]);
+  }
+  else
+  {
+    double n[3];
+    normals->GetTuple(i, n);
+    v = Vec3f(static_cast<float>(n[0]), static_cast<float>(n[1]), static_cast<float>(n[2]));
+  }
   if (!whitted::isFinite(v) || !(glm::dot(v, v) > 0.0f))
   {
     ++bad;
@@ -261,6 +330,8 @@ void vtkWhittedPolyData::AddTriangles(const PrimitiveInput& in,
     // Shared vertices
     const vtkIdType np = in.NumberOfPoints;
     attributes.Resize(m, static_cast<size_t>(np));
+    vtkFloatArray* floatNormals = vtkFloatArray::FastDownCast(pointNormals);
+    const float* nf = floatNormals ? floatNormals->GetPointer(0) : nullptr;
     if (pointNormals)
     {
       m.normals.resize(static_cast<size_t>(np));
@@ -274,7 +345,7 @@ void vtkWhittedPolyData::AddTriangles(const PrimitiveInput& in,
           attributes.Set(m, static_cast<size_t>(i), i);
           if (pointNormals)
           {
-            m.normals[i] = NormalAt(pointNormals, i, bad);
+            m.normals[i] = NormalAt(pointNormals, nf, i, bad);
           }
         }
         return bad;
@@ -296,7 +367,7 @@ void vtkWhittedPolyData::AddTriangles(const PrimitiveInput& in,
       if (tl.Cells[t] != lastCell)
       {
         lastCell = tl.Cells[t];
-        n = NormalAt(cellNormals, lastCell, issues.BadNormals);
+        n = NormalAt(cellNormals, nullptr, lastCell, issues.BadNormals);
       }
       for (int k = 0; k < 3; ++k)
       {

@@ -3,7 +3,8 @@
 #include <unordered_set>
 
 //------------------------------------------------------------------------------
-void vtkWhittedPolyData::AddTubes(const PrimitiveInput& in, double radius, whitted::TubeSet& tubes,
+void vtkWhittedPolyData::AddTubes(const PrimitiveInput& in,
+  const std::function<double()>& radius, whitted::TubeSet& tubes,
   vtkWhittedPolyDataConverter::Problems& issues)
 {
   const ColorSource& colors = in.Colors;
@@ -76,6 +77,6 @@ void vtkWhittedPolyData::AddTubes(const PrimitiveInput& in, double radius, whitt
   }
   if (!tubes.p0.empty() && !in.Radii.Active)
   {
-    UniformRadius(radius, tubes, issues.NoTubeRadius);
+    UniformRadius(radius(), tubes, issues.NoTubeRadius);
   }
 }

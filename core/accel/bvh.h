@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace whitted {
@@ -71,7 +72,13 @@ class Bvh {
   void refit(const std::vector<Bounds3>& boxes);
   /// refit() with the boxes in leaf order (leafBoxes[k] bounds primitive primIndices()[k]): saves the gather, for
   /// callers whose primitives are stored in leaf order.
-  void refitLeafOrder(const std::vector<Bounds3>& leafBoxes);
+  void refitLeafOrder(const std::vector<Bounds3>& leafBoxes) { refitFrom(leafBoxes.data(), leafBoxes.size(), false); }
+  /// Fills boxes[0 .. end - first) with the boxes of leaf slots [first, end); false if one cannot be boxed.
+  using LeafBoxFill = std::function<bool(std::size_t first, std::size_t end, Bounds3* boxes)>;
+  /// refitLeafOrder() with the boxes made by fill in pieces on all cores and rounded there, never all stored in
+  /// double (a 1M-triangle mesh's 48 MB). Returns false, and leaves the tree as it was, if fill returned false for
+  /// some piece. Throws std::invalid_argument if n is not the tree's primitive count.
+  bool refitLeafOrder(std::size_t n, const LeafBoxFill& fill);
   /// The tree's expected trace cost by the surface area heuristic, for a ray crossing the root box: every wide node
   /// entered costs one (its four box tests), every leaf entered its primitive count, each weighted by the chance
   /// area(box) / area(root box) that such a ray enters it. 0 for an empty tree or a root box without area. Compares
@@ -204,7 +211,7 @@ class Bvh {
   }
 
   /// refit() (gather: boxes by original primitive index) and refitLeafOrder() (boxes in leaf order).
-  void refitFrom(const std::vector<Bounds3>& boxes, bool gather);
+  void refitFrom(const Bounds3* boxes, std::size_t n, bool gather);
 
   BvhWideNodes wide_;
   Vec3 anchor_{0.0};  ///< The first finite centroid; node boxes are stored relative to it.

@@ -224,6 +224,26 @@ TEST_P(BvhQuality, RefitOnSameBoxesChangesNothing) {
   Bvh fromLeafOrder = built;
   fromLeafOrder.refitLeafOrder(leafOrder);
   EXPECT_TRUE(sameTree(built, fromLeafOrder));
+  // The same boxes made piece by piece by a callback (never all stored in double): the same tree, every slot asked
+  // for once; a piece that fails leaves the tree as it was
+  Bvh fromPieces = built;
+  std::vector<int> asked(leafOrder.size(), 0);
+  EXPECT_TRUE(fromPieces.refitLeafOrder(leafOrder.size(), [&](std::size_t b, std::size_t e, Bounds3* out) {
+    for (std::size_t k = b; k < e; ++k) out[k - b] = leafOrder[k], ++asked[k];
+    return true;
+  }));
+  EXPECT_TRUE(sameTree(built, fromPieces));
+  EXPECT_EQ(std::count(asked.begin(), asked.end(), 1), std::ptrdiff_t(asked.size()));
+  Bvh failed = built;
+  std::vector<Bounds3> moved = leafOrder;
+  for (Bounds3& b : moved) b.hi += Vec3(1.0);
+  EXPECT_FALSE(failed.refitLeafOrder(moved.size(), [&](std::size_t b, std::size_t e, Bounds3* out) {
+    for (std::size_t k = b; k < e; ++k) out[k - b] = moved[k];
+    return e < moved.size();  // the last piece fails
+  }));
+  EXPECT_TRUE(sameTree(built, failed));
+  EXPECT_THROW(failed.refitLeafOrder(moved.size() - 1, [](std::size_t, std::size_t, Bounds3*) { return true; }),
+               std::invalid_argument);
 }
 
 INSTANTIATE_TEST_SUITE_P(Bvh, BvhQuality, testing::Values(BvhBuildQuality::Sah, BvhBuildQuality::Fast),

@@ -16,20 +16,35 @@ namespace whitted {
 using namespace bvh_detail;
 
 void Bvh::refit(const std::vector<Bounds3>& boxes) {
-  refitFrom(boxes, true);
+  refitFrom(boxes.data(), boxes.size(), true);
 }
 
-void Bvh::refitLeafOrder(const std::vector<Bounds3>& leafBoxes) {
-  refitFrom(leafBoxes, false);
-}
-
-void Bvh::refitFrom(const std::vector<Bounds3>& boxes, bool gather) {
-  if (boxes.size() != primIndices_.size()) throw std::invalid_argument("Bvh::refit: primitive count differs");
+void Bvh::refitFrom(const Bounds3* boxes, std::size_t n, bool gather) {
+  if (n != primIndices_.size()) throw std::invalid_argument("Bvh::refit: primitive count differs");
   if (wide_.empty()) return;
-  WorkerPool pool(buildThreads(BvhBuildOptions(), boxes.size()));
-  const LeafOrderBoxes leafBox(boxes.data(), uint32_t(boxes.size()), gather ? primIndices_.data() : nullptr, anchor_,
-                               pool);
+  WorkerPool pool(buildThreads(BvhBuildOptions(), n));
+  const LeafOrderBoxes leafBox(boxes, uint32_t(n), gather ? primIndices_.data() : nullptr, anchor_, pool);
   bounds_ = toBounds(Refitter<LeafOrderBoxes>{wide_, leafBox}.all(pool), anchor_);
+}
+
+bool Bvh::refitLeafOrder(std::size_t n, const LeafBoxFill& fill) {
+  if (n != primIndices_.size()) throw std::invalid_argument("Bvh::refit: primitive count differs");
+  if (wide_.empty()) return true;
+  WorkerPool pool(buildThreads(BvhBuildOptions(), n));
+  LeafOrderBoxes leafBox(uint32_t(n), pool, [&](uint32_t first, uint32_t end, Box4* out) {
+    // In slices of a chunk, so the double boxes stay in a small buffer
+    constexpr uint32_t kSlice = 256;
+    Bounds3 boxes[kSlice];
+    for (uint32_t b = first; b < end; b += kSlice) {
+      const uint32_t e = std::min(end, b + kSlice);
+      if (!fill(b, e, boxes)) return false;
+      for (uint32_t i = b; i < e; ++i) new (&out[i - first]) Box4(roundedBox(boxes[i - b], anchor_));
+    }
+    return true;
+  });
+  if (!leafBox.valid) return false;
+  bounds_ = toBounds(Refitter<LeafOrderBoxes>{wide_, leafBox}.all(pool), anchor_);
+  return true;
 }
 
 double Bvh::sahCost() const {

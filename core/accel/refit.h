@@ -11,6 +11,7 @@
 #include <emmintrin.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <new>
@@ -84,6 +85,18 @@ struct LeafOrderBoxes {
       }
     });
   }
+  /// Boxes made by make(first, end, out) for chunks of leaf slots on all cores (out: slot first's box); valid false
+  /// if make returned false for some chunk (the boxes are then incomplete).
+  template <typename Make>
+  LeafOrderBoxes(uint32_t n, WorkerPool& pool, Make&& make) : box(n) {
+    std::atomic<bool> ok{true};
+    pool.run(chunksOf(n), [&](uint32_t k) {
+      const uint32_t i = k * kChunk, e = std::min(n, i + kChunk);
+      if (ok.load(std::memory_order_relaxed) && !make(i, e, &box[i])) ok.store(false, std::memory_order_relaxed);
+    });
+    valid = ok.load();
+  }
+  bool valid = true;
   /// A leaf's box: the union of its rounded primitive boxes (= the rounded union: rounding is monotonic).
   Box4 operator()(uint32_t first, uint32_t count) const {
     Box4 u;

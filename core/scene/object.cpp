@@ -2,6 +2,8 @@
 
 #include "util/parallel.h"
 
+#include <mutex>
+
 namespace whitted {
 
 namespace {
@@ -97,16 +99,21 @@ bool refitShape(Object& o, typename Shape::Geometry& g) {
   const std::size_t n = Shape::count(g);
   const std::vector<uint32_t>& order = o.bvh.primIndices();  // leaf slot -> primitive (all were valid)
   if (!o.primOrder.empty() || order.size() != n) return false;
-  // Boxes in leaf order (leaf-ordered geometry is read in its stored order: no scatter, no gather)
-  std::vector<Bounds3> boxes;
-  boxes.reserve(n);
-  Bounds3 all, box;
-  for (uint32_t k = 0; k < n; ++k) {
-    if (!Shape::bounds(g, Shape::kLeafOrdered ? k : order[k], box)) return false;
-    boxes.push_back(box);
-    all.extend(box);
-  }
-  o.bvh.refitLeafOrder(boxes);
+  // Boxes in leaf order (leaf-ordered geometry is read in its stored order: no scatter, no gather), made and
+  // rounded by the tree in pieces on all cores; the object's box merges the pieces' (min / max: in any order)
+  std::mutex merge;
+  Bounds3 all;
+  const bool valid = o.bvh.refitLeafOrder(n, [&](std::size_t b, std::size_t e, Bounds3* boxes) {
+    Bounds3 piece;
+    for (std::size_t k = b; k < e; ++k) {
+      if (!Shape::bounds(g, Shape::kLeafOrdered ? uint32_t(k) : order[k], boxes[k - b])) return false;
+      piece.extend(boxes[k - b]);
+    }
+    const std::lock_guard<std::mutex> lock(merge);
+    all.extend(piece);
+    return true;
+  });
+  if (!valid) return false;
   o.bounds = all;
   return true;
 }

@@ -5,7 +5,9 @@
 
 #include "accel/bvh.h"
 #include "geometry/shapes.h"
+#include "util/parallel.h"
 
+#include <atomic>
 #include <variant>
 
 namespace whitted {
@@ -119,8 +121,20 @@ bool Object::sameLeafOrdered(const G& stored, const G& g) const {
     const auto &mine = Shape::leafOrdered(stored), &theirs = Shape::leafOrdered(g);
     if (mine.size() != theirs.size()) return false;
     const uint32_t* order = leafPrims();
-    for (std::size_t k = 0; k < mine.size(); ++k)
-      if (mine[k] != theirs[order[k]]) return false;
+    // A gather through the leaf order (1M triangles: about 5 ms on one core): large arrays on all cores, in
+    // pieces that stop once any piece found a difference
+    constexpr std::size_t kPiece = 65536;
+    std::atomic<bool> same{true};
+    WorkerPool pool(mine.size() >= 4 * kPiece ? hardwareThreads() : 1);
+    forChunks(pool, mine.size(), kPiece, [&](std::size_t b, std::size_t e) {
+      if (!same.load(std::memory_order_relaxed)) return;
+      for (std::size_t k = b; k < e; ++k)
+        if (mine[k] != theirs[order[k]]) {
+          same.store(false, std::memory_order_relaxed);
+          return;
+        }
+    });
+    return same.load();
   }
   return true;
 }

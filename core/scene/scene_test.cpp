@@ -234,6 +234,59 @@ TEST(Scene, MovedPointsOnSameTrianglesAreRefit) {
   expectHitsMatchBruteForce(s, m);
 }
 
+// The same on a mesh large enough that the topology check and the refit's boxes run in pieces on all cores: the
+// refit tree finds the hits a tree built from scratch finds; a triangle changed in the last piece is a new topology
+// (rebuilt), and a point moved to infinity in the last piece makes the refit fall back to a rebuild.
+TEST(Scene, LargeMeshTopologyCheckAndRefitInPieces) {
+  TriangleMesh m = makeSphereMesh(Vec3(0.0), 1.0, 640, 240);
+  ASSERT_GT(m.triangles.size(), 4u * 65536u);
+  Scene s;
+  const uint32_t o = s.addMesh(m);
+  s.addInstance(o, Mat4(1.0), s.addMaterial(Material{}));
+  s.commit();
+  for (Vec3& p : m.positions) p = p * (1.0 + 0.2 * std::sin(3.0 * p.y)) + Vec3(0.3, -0.2, 0.1);
+  EXPECT_TRUE(s.updateMesh(o, m));
+  CommitStats st = s.commit();
+  EXPECT_EQ(st.objectsRefit, 1);
+  EXPECT_EQ(st.objectsRebuilt, 0);
+  auto sameHitsAsFresh = [](const Scene& a, const TriangleMesh& mesh) {
+    Scene fresh;
+    fresh.addInstance(fresh.addMesh(mesh), Mat4(1.0), fresh.addMaterial(Material{}));
+    fresh.commit();
+    std::mt19937 rng(4);
+    int hits = 0;
+    for (int k = 0; k < 4000; ++k) {
+      const Ray r = rayFromAbove(rng, 1.5);
+      Hit ha, hb;
+      const bool found = a.intersect(r, ha);
+      ASSERT_EQ(found, fresh.intersect(r, hb));
+      if (!found) continue;
+      ++hits;
+      EXPECT_EQ(ha.t, hb.t);
+      EXPECT_EQ(ha.prim, hb.prim);
+    }
+    EXPECT_GT(hits, 1000);
+  };
+  sameHitsAsFresh(s, m);
+
+  std::swap(m.triangles.back().y, m.triangles.back().z);  // the last triangle turned over: another topology
+  EXPECT_TRUE(s.updateMesh(o, m));
+  st = s.commit();
+  EXPECT_EQ(st.objectsRefit, 0);
+  EXPECT_EQ(st.objectsRebuilt, 1);
+  sameHitsAsFresh(s, m);
+
+  m.positions[m.triangles.back().x].x += 0.01;  // moved: refit
+  EXPECT_TRUE(s.updateMesh(o, m));
+  EXPECT_EQ(s.commit().objectsRefit, 1);
+  m.positions[m.triangles.back().x].x = kInfinity;  // invalid in the last piece: rebuilt instead
+  EXPECT_TRUE(s.updateMesh(o, m));
+  st = s.commit();
+  EXPECT_EQ(st.objectsRefit, 0);
+  EXPECT_EQ(st.objectsRebuilt, 1);
+  EXPECT_GT(st.invalidPrimitives, 0u);
+}
+
 // A refit whose tree would trace much slower (points that trade places: every triangle now spans the sphere, the
 // kept topology groups far-apart triangles) is rebuilt instead; a gentle deformation keeps its refit. Hits stay
 // exact either way.

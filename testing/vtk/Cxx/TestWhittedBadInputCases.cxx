@@ -97,6 +97,28 @@ vtkSmartPointer<vtkActor> ActorOf(vtkDataObject* data)
   return actor;
 }
 
+// The same polydata with float points and 32-bit cell arrays: the converter reads those directly (a mesh of
+// triangles only is taken from the offsets and connectivity at once), the double / 64-bit inputs the general way
+vtkSmartPointer<vtkPolyData> FloatAnd32Bit(vtkSmartPointer<vtkPolyData> poly)
+{
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToFloat();
+  points->SetNumberOfPoints(poly->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < poly->GetNumberOfPoints(); ++i)
+  {
+    points->SetPoint(i, poly->GetPoint(i));
+  }
+  poly->SetPoints(points);
+  for (vtkCellArray* ca : { poly->GetVerts(), poly->GetLines(), poly->GetPolys(), poly->GetStrips() })
+  {
+    if (ca)
+    {
+      ca->ConvertTo32BitStorage();
+    }
+  }
+  return poly;
+}
+
 // A vertical quad (two triangles) standing on the floor at x in [0.6, 1.6], z = 0.3
 std::vector<std::array<double, 3>> QuadPoints()
 {
@@ -302,6 +324,32 @@ std::vector<Case> Cases()
         { { 0, 1, 2 }, { 1, 3, 2 }, { 2, 3, 4 }, { 3, 5, 4 } }));
     },
     {} });
+  c.push_back({ "NaN float point coordinates, triangles only, 32-bit cells",
+    [=]
+    {
+      auto pts = QuadPoints();
+      pts.push_back({ nan, 0.5, 0.3 });
+      pts.push_back({ 1.0, nan, nan });
+      return ActorOf(
+        FloatAnd32Bit(MakePoly(pts, { { 0, 1, 2 }, { 0, 2, 3 }, { 1, 4, 2 }, { 3, 2, 5 } })));
+    },
+    quad, { "2 of 6 points have NaN or infinite coordinates" } });
+  // Triangles only, so the converter first tries the whole connectivity at once, and must then fall
+  // back to the cell-by-cell way that skips and counts the bad cells; the reference (a valid
+  // triangle mesh) takes the direct way: the same image from both
+  c.push_back({ "point ids out of range, triangles only",
+    []
+    {
+      return ActorOf(MakePoly(QuadPoints(), { { 0, 1, 2 }, { 3, 2, 4 }, { 0, 2, 3 }, { 1, 4, 2 } }));
+    },
+    quad, { "2 cells use point ids outside [0, 4)" } });
+  c.push_back({ "point ids out of range, triangles only, float points, 32-bit cells",
+    []
+    {
+      return ActorOf(FloatAnd32Bit(
+        MakePoly(QuadPoints(), { { 0, 1, 2 }, { 3, 2, 4 }, { 0, 2, 3 }, { 1, 4, 2 } })));
+    },
+    quad, { "2 cells use point ids outside [0, 4)" } });
   c.push_back({ "point ids out of range",
     []
     {
