@@ -22,6 +22,39 @@ bool Reusable(vtkTextureObject* t, vtkOpenGLRenderWindow* win, int w, int h)
   return t->GetHandle() != 0 && t->GetContext() == win && t->GetTarget() == GL_TEXTURE_2D &&
     t->GetWidth() == static_cast<unsigned int>(w) && t->GetHeight() == static_cast<unsigned int>(h);
 }
+
+// The quad's fragment shader: premultiplied colour and true depth, missed pixels discarded; with
+// withOffset, the depth pushed back by VTK's polygon offset (uniform polygonOffset)
+std::string FragmentShader(bool withOffset)
+{
+  std::string fs = vtkOpenGLRenderUtilities::GetFullScreenQuadFragmentShaderTemplate();
+  std::string decl = "uniform sampler2D colorTexture;\n"
+                     "uniform sampler2D depthTexture;\n";
+  std::string impl = "vec4 color = texture(colorTexture, texCoord);\n"
+                     "if (color.a <= 0.0) { discard; }\n"
+                     "gl_FragData[0] = color;\n"
+                     "float d = texture(depthTexture, texCoord).r;\n";
+  if (withOffset)
+  {
+    decl += "uniform vec3 polygonOffset;\n" // factor, units x resolvable depth, texels per pixel
+      // Depth slope per pixel, as glPolygonOffset's DZ: per axis the smaller one-sided difference
+      // to a hit neighbour (a silhouette must not count as a slope)
+      "float slope(float d, float a, float b) {\n"
+      "  float da = a < 1.0 ? abs(a - d) : 1.0, db = b < 1.0 ? abs(b - d) : 1.0;\n"
+      "  float s = min(da, db);\n"
+      "  return s < 1.0 ? s : 0.0;\n"
+      "}\n";
+    impl += "float dx = slope(d, textureOffset(depthTexture, texCoord, ivec2(1, 0)).r,\n"
+            "  textureOffset(depthTexture, texCoord, ivec2(-1, 0)).r);\n"
+            "float dy = slope(d, textureOffset(depthTexture, texCoord, ivec2(0, 1)).r,\n"
+            "  textureOffset(depthTexture, texCoord, ivec2(0, -1)).r);\n"
+            "d = clamp(d + polygonOffset.x * max(dx, dy) * polygonOffset.z + polygonOffset.y, 0.0, 1.0);\n";
+  }
+  impl += "gl_FragDepth = d;\n";
+  vtkShaderProgram::Substitute(fs, "//VTK::FSQ::Decl", decl);
+  vtkShaderProgram::Substitute(fs, "//VTK::FSQ::Impl", impl);
+  return fs;
+}
 }
 
 //------------------------------------------------------------------------------
@@ -30,6 +63,7 @@ vtkWhittedCompositor::vtkWhittedCompositor() = default;
 vtkWhittedCompositor::~vtkWhittedCompositor()
 {
   delete this->Quad;
+  delete this->OffsetQuad;
 }
 
 //------------------------------------------------------------------------------
@@ -42,36 +76,26 @@ bool vtkWhittedCompositor::Draw(vtkOpenGLRenderWindow* win, const whitted::Frame
   }
   win->MakeCurrent();
 
-  // Shader: premultiplied colour and true depth; missed pixels leave the framebuffer alone
-  if (!this->Quad)
+  // VTK's coincident topology resolution (ParaView turns it on): surfaces are pushed back as VTK
+  // pushes its own polygons, so OpenGL lines and points drawn over a traced surface (wireframes,
+  // the selection highlight) stay in front of it as they do over OpenGL surfaces
+  float offset[3] = { 0.0f, 0.0f, width > 0 ? static_cast<float>(fb.width) / width : 1.0f };
+  if (vtkMapper::GetResolveCoincidentTopology() == VTK_RESOLVE_POLYGON_OFFSET)
   {
-    std::string fs = vtkOpenGLRenderUtilities::GetFullScreenQuadFragmentShaderTemplate();
-    vtkShaderProgram::Substitute(fs, "//VTK::FSQ::Decl",
-      "uniform sampler2D colorTexture;\n"
-      "uniform sampler2D depthTexture;\n"
-      "uniform vec3 polygonOffset;\n" // factor, units x resolvable depth, texels per pixel
-      // Depth slope per pixel, as glPolygonOffset's DZ: per axis the smaller one-sided difference
-      // to a hit neighbour (a silhouette must not count as a slope)
-      "float slope(float d, float a, float b) {\n"
-      "  float da = a < 1.0 ? abs(a - d) : 1.0, db = b < 1.0 ? abs(b - d) : 1.0;\n"
-      "  float s = min(da, db);\n"
-      "  return s < 1.0 ? s : 0.0;\n"
-      "}\n");
-    vtkShaderProgram::Substitute(fs, "//VTK::FSQ::Impl",
-      "vec4 color = texture(colorTexture, texCoord);\n"
-      "if (color.a <= 0.0) { discard; }\n"
-      "gl_FragData[0] = color;\n"
-      "float d = texture(depthTexture, texCoord).r;\n"
-      "if (polygonOffset.x != 0.0 || polygonOffset.y != 0.0) {\n"
-      "  float dx = slope(d, textureOffset(depthTexture, texCoord, ivec2(1, 0)).r,\n"
-      "    textureOffset(depthTexture, texCoord, ivec2(-1, 0)).r);\n"
-      "  float dy = slope(d, textureOffset(depthTexture, texCoord, ivec2(0, 1)).r,\n"
-      "    textureOffset(depthTexture, texCoord, ivec2(0, -1)).r);\n"
-      "  d = clamp(d + polygonOffset.x * max(dx, dy) * polygonOffset.z + polygonOffset.y, 0.0, 1.0);\n"
-      "}\n"
-      "gl_FragDepth = d;\n");
-    this->Quad = new vtkOpenGLQuadHelper(
-      win, vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(), fs.c_str(), "");
+    double factor = 0.0, units = 0.0;
+    vtkMapper::GetResolveCoincidentTopologyPolygonOffsetParameters(factor, units);
+    offset[0] = static_cast<float>(factor);
+    offset[1] = static_cast<float>(units / 16777215.0); // a unit of a 24-bit depth buffer
+  }
+  const bool withOffset = offset[0] != 0.0f || offset[1] != 0.0f;
+
+  // Shader: premultiplied colour and true depth; missed pixels leave the framebuffer alone
+  vtkOpenGLQuadHelper*& quad = withOffset ? this->OffsetQuad : this->Quad;
+  if (!quad)
+  {
+    quad = new vtkOpenGLQuadHelper(win,
+      vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(),
+      FragmentShader(withOffset).c_str(), "");
     for (vtkTextureObject* t : { this->ColorTexture.Get(), this->DepthTexture.Get() })
     {
       t->SetContext(win);
@@ -83,9 +107,9 @@ bool vtkWhittedCompositor::Draw(vtkOpenGLRenderWindow* win, const whitted::Frame
   }
   else
   {
-    win->GetShaderCache()->ReadyShaderProgram(this->Quad->Program);
+    win->GetShaderCache()->ReadyShaderProgram(quad->Program);
   }
-  if (!this->Quad->Program || !this->Quad->Program->GetCompiled())
+  if (!quad->Program || !quad->Program->GetCompiled())
   {
     return false;
   }
@@ -117,20 +141,12 @@ bool vtkWhittedCompositor::Draw(vtkOpenGLRenderWindow* win, const whitted::Frame
   }
   this->ColorTexture->Activate();
   this->DepthTexture->Activate();
-  this->Quad->Program->SetUniformi("colorTexture", this->ColorTexture->GetTextureUnit());
-  this->Quad->Program->SetUniformi("depthTexture", this->DepthTexture->GetTextureUnit());
-  // VTK's coincident topology resolution (ParaView turns it on): surfaces are pushed back as VTK
-  // pushes its own polygons, so OpenGL lines and points drawn over a traced surface (wireframes,
-  // the selection highlight) stay in front of it as they do over OpenGL surfaces
-  float offset[3] = { 0.0f, 0.0f, width > 0 ? static_cast<float>(fb.width) / width : 1.0f };
-  if (vtkMapper::GetResolveCoincidentTopology() == VTK_RESOLVE_POLYGON_OFFSET)
+  quad->Program->SetUniformi("colorTexture", this->ColorTexture->GetTextureUnit());
+  quad->Program->SetUniformi("depthTexture", this->DepthTexture->GetTextureUnit());
+  if (withOffset)
   {
-    double factor = 0.0, units = 0.0;
-    vtkMapper::GetResolveCoincidentTopologyPolygonOffsetParameters(factor, units);
-    offset[0] = static_cast<float>(factor);
-    offset[1] = static_cast<float>(units / 16777215.0); // a unit of a 24-bit depth buffer
+    quad->Program->SetUniform3f("polygonOffset", offset);
   }
-  this->Quad->Program->SetUniform3f("polygonOffset", offset);
 
   // Draw under scoped state: blend premultiplied colour, depth-test against what is there
   vtkOpenGLState* state = win->GetState();
@@ -152,7 +168,7 @@ bool vtkWhittedCompositor::Draw(vtkOpenGLRenderWindow* win, const whitted::Frame
   state->vtkglEnable(GL_BLEND);
   state->vtkglBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
 
-  this->Quad->Render();
+  quad->Render();
 
   this->DepthTexture->Deactivate();
   this->ColorTexture->Deactivate();
@@ -162,11 +178,14 @@ bool vtkWhittedCompositor::Draw(vtkOpenGLRenderWindow* win, const whitted::Frame
 //------------------------------------------------------------------------------
 void vtkWhittedCompositor::ReleaseGraphicsResources(vtkWindow* w)
 {
-  if (this->Quad)
+  for (vtkOpenGLQuadHelper** quad : { &this->Quad, &this->OffsetQuad })
   {
-    this->Quad->ReleaseGraphicsResources(w);
-    delete this->Quad;
-    this->Quad = nullptr;
+    if (*quad)
+    {
+      (*quad)->ReleaseGraphicsResources(w);
+      delete *quad;
+      *quad = nullptr;
+    }
   }
   this->ColorTexture->ReleaseGraphicsResources(w);
   this->DepthTexture->ReleaseGraphicsResources(w);

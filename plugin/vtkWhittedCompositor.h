@@ -47,7 +47,10 @@ public:
   void ReleaseGraphicsResources(vtkWindow* w);
 
 private:
+  // The quad's program without and with the coincident-topology depth offset (each compiled when
+  // first needed: llvmpipe's first draw of the offset variant takes longer, and so does every draw)
   vtkOpenGLQuadHelper* Quad = nullptr;
+  vtkOpenGLQuadHelper* OffsetQuad = nullptr;
   vtkNew<vtkTextureObject> ColorTexture;
   vtkNew<vtkTextureObject> DepthTexture;
 };
