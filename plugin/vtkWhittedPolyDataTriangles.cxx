@@ -78,8 +78,10 @@ uint8_t PolygonEdges(vtkIdType a, vtkIdType b, vtkIdType c, vtkIdType n)
 }
 
 // Polygons that are all triangles (a contour, a triangulated surface: the common case) read straight from the
-// cell array's offsets and connectivity, on all cores: the triangles, cell ids and edge bits Triangulate's loop
-// gives them. False (out untouched) when some cell is not a triangle or names no point: that loop then runs.
+// cell array's offsets and connectivity, on all cores: the triangles, cell ids and edge bits AddPolygons gives
+// them. False (out untouched) when some cell is not a triangle or names no point: AddPolygons then runs. A cell's
+// ids are read only once its size is known to be 3 (mixed sizes can add up to 3 per cell, as a quad and a
+// two-point polygon do).
 template <typename Id>
 bool TrianglesOnly(const Id* offsets, const Id* conn, vtkIdType nc, vtkIdType np, vtkIdType firstId,
   TriangleList& out)
@@ -93,9 +95,13 @@ bool TrianglesOnly(const Id* offsets, const Id* conn, vtkIdType nc, vtkIdType np
       for (vtkIdType i = b; i < e; ++i)
       {
         const vtkIdType o = static_cast<vtkIdType>(offsets[i]);
+        if (static_cast<vtkIdType>(offsets[i + 1]) - o != 3)
+        {
+          ++n;
+          continue;
+        }
         const vtkIdType p0 = conn[o], p1 = conn[o + 1], p2 = conn[o + 2];
-        n += offsets[i + 1] - offsets[i] != 3 || p0 < 0 || p0 >= np || p1 < 0 || p1 >= np || p2 < 0 ||
-          p2 >= np;
+        n += p0 < 0 || p0 >= np || p1 < 0 || p1 >= np || p2 < 0 || p2 >= np;
         tris[i] = glm::uvec3(p0, p1, p2);
         ids[i] = firstId + i;
       }

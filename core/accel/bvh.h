@@ -73,8 +73,10 @@ class Bvh {
   /// refit() with the boxes in leaf order (leafBoxes[k] bounds primitive primIndices()[k]): saves the gather, for
   /// callers whose primitives are stored in leaf order.
   void refitLeafOrder(const std::vector<Bounds3>& leafBoxes) { refitFrom(leafBoxes.data(), leafBoxes.size(), false); }
-  /// Fills boxes[0 .. end - first) with the boxes of leaf slots [first, end); false if one cannot be boxed.
+  /// Fills boxes[0 .. end - first) with the boxes of leaf slots [first, end); false if one cannot be boxed. first is
+  /// a multiple of kRefitSlice, and end - first at most kRefitSlice.
   using LeafBoxFill = std::function<bool(std::size_t first, std::size_t end, Bounds3* boxes)>;
+  static constexpr std::size_t kRefitSlice = 256;
   /// refitLeafOrder() with the boxes made by fill in pieces on all cores and rounded there, never all stored in
   /// double (a 1M-triangle mesh's 48 MB). Returns false, and leaves the tree as it was, if fill returned false for
   /// some piece. Throws std::invalid_argument if n is not the tree's primitive count.

@@ -33,7 +33,8 @@ bool Bvh::refitLeafOrder(std::size_t n, const LeafBoxFill& fill) {
   WorkerPool pool(buildThreads(BvhBuildOptions(), n));
   LeafOrderBoxes leafBox(uint32_t(n), pool, [&](uint32_t first, uint32_t end, Box4* out) {
     // In slices of a chunk, so the double boxes stay in a small buffer
-    constexpr uint32_t kSlice = 256;
+    constexpr uint32_t kSlice = uint32_t(kRefitSlice);
+    static_assert(kChunk % kSlice == 0, "slices start at multiples of kRefitSlice");
     Bounds3 boxes[kSlice];
     for (uint32_t b = first; b < end; b += kSlice) {
       const uint32_t e = std::min(end, b + kSlice);

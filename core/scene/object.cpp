@@ -2,8 +2,6 @@
 
 #include "util/parallel.h"
 
-#include <mutex>
-
 namespace whitted {
 
 namespace {
@@ -100,20 +98,21 @@ bool refitShape(Object& o, typename Shape::Geometry& g) {
   const std::vector<uint32_t>& order = o.bvh.primIndices();  // leaf slot -> primitive (all were valid)
   if (!o.primOrder.empty() || order.size() != n) return false;
   // Boxes in leaf order (leaf-ordered geometry is read in its stored order: no scatter, no gather), made and
-  // rounded by the tree in pieces on all cores; the object's box merges the pieces' (min / max: in any order)
-  std::mutex merge;
-  Bounds3 all;
+  // rounded by the tree in slices on all cores; the object's box merges the slices' boxes in slice order (the same
+  // bits, -0 and +0 included, whichever thread made which)
+  std::vector<Bounds3> sliceBounds((n + Bvh::kRefitSlice - 1) / Bvh::kRefitSlice);
   const bool valid = o.bvh.refitLeafOrder(n, [&](std::size_t b, std::size_t e, Bounds3* boxes) {
-    Bounds3 piece;
+    Bounds3 slice;
     for (std::size_t k = b; k < e; ++k) {
       if (!Shape::bounds(g, Shape::kLeafOrdered ? uint32_t(k) : order[k], boxes[k - b])) return false;
-      piece.extend(boxes[k - b]);
+      slice.extend(boxes[k - b]);
     }
-    const std::lock_guard<std::mutex> lock(merge);
-    all.extend(piece);
+    sliceBounds[b / Bvh::kRefitSlice] = slice;
     return true;
   });
   if (!valid) return false;
+  Bounds3 all;
+  for (const Bounds3& b : sliceBounds) all.extend(b);
   o.bounds = all;
   return true;
 }

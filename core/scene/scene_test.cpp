@@ -235,8 +235,9 @@ TEST(Scene, MovedPointsOnSameTrianglesAreRefit) {
 }
 
 // The same on a mesh large enough that the topology check and the refit's boxes run in pieces on all cores: the
-// refit tree finds the hits a tree built from scratch finds; a triangle changed in the last piece is a new topology
-// (rebuilt), and a point moved to infinity in the last piece makes the refit fall back to a rebuild.
+// refit tree finds the hits a tree built from scratch finds; a triangle turned over is a new topology
+// (rebuilt), and a point moved to infinity makes the refit fall back to a rebuild (the given triangles' leaf slots,
+// and so the pieces they fall in, are the tree's choice).
 TEST(Scene, LargeMeshTopologyCheckAndRefitInPieces) {
   TriangleMesh m = makeSphereMesh(Vec3(0.0), 1.0, 640, 240);
   ASSERT_GT(m.triangles.size(), 4u * 65536u);
@@ -279,7 +280,7 @@ TEST(Scene, LargeMeshTopologyCheckAndRefitInPieces) {
   m.positions[m.triangles.back().x].x += 0.01;  // moved: refit
   EXPECT_TRUE(s.updateMesh(o, m));
   EXPECT_EQ(s.commit().objectsRefit, 1);
-  m.positions[m.triangles.back().x].x = kInfinity;  // invalid in the last piece: rebuilt instead
+  m.positions[m.triangles.back().x].x = kInfinity;  // invalid: rebuilt instead
   EXPECT_TRUE(s.updateMesh(o, m));
   st = s.commit();
   EXPECT_EQ(st.objectsRefit, 0);

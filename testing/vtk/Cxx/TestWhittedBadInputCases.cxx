@@ -350,6 +350,10 @@ std::vector<Case> Cases()
         MakePoly(QuadPoints(), { { 0, 1, 2 }, { 3, 2, 4 }, { 0, 2, 3 }, { 1, 4, 2 } })));
     },
     quad, { "2 cells use point ids outside [0, 4)" } });
+  // Cells of mixed sizes whose ids still add up to three per cell (a quad and a two-point polygon):
+  // not a triangle mesh, drawn cell by cell (the two-point polygon draws nothing)
+  c.push_back({ "a quad and a two-point polygon",
+    [] { return ActorOf(MakePoly(QuadPoints(), { { 0, 1, 2, 3 }, { 0, 2 } })); }, quad, {} });
   c.push_back({ "point ids out of range",
     []
     {
