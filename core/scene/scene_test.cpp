@@ -254,19 +254,7 @@ TEST(Scene, LargeMeshTopologyCheckAndRefitInPieces) {
     Scene fresh;
     fresh.addInstance(fresh.addMesh(mesh), Mat4(1.0), fresh.addMaterial(Material{}));
     fresh.commit();
-    std::mt19937 rng(4);
-    int hits = 0;
-    for (int k = 0; k < 4000; ++k) {
-      const Ray r = rayFromAbove(rng, 1.5);
-      Hit ha, hb;
-      const bool found = a.intersect(r, ha);
-      ASSERT_EQ(found, fresh.intersect(r, hb));
-      if (!found) continue;
-      ++hits;
-      EXPECT_EQ(ha.t, hb.t);
-      EXPECT_EQ(ha.prim, hb.prim);
-    }
-    EXPECT_GT(hits, 1000);
+    expectSameHits(a, fresh, 1.5, 4000);
   };
   sameHitsAsFresh(s, m);
 
